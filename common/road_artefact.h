@@ -1,0 +1,61 @@
+// road.h5: the fitted road on a uniform arc-length grid (schema "ttz.road", version 1).
+//
+// Written by road_fit, read by lap. Every dataset, unit and sign convention is documented in
+// docs/road_h5.md; this struct is its in-memory form.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace ttz {
+
+inline constexpr const char* kRoadSchema = "ttz.road";
+inline constexpr int kRoadSchemaVersion = 1;
+
+struct RoadArtefact {
+  // Along the centre line, uniform in s.
+  std::vector<double> s;      // curvilinear abscissa [m], 0 at the start
+  std::vector<double> x, y;   // local frame: east, north of the frame origin [m]
+  std::vector<double> z;      // elevation [m]
+  std::vector<double> theta;  // heading from east, counter-clockwise [rad] (continuous, unwrapped)
+  std::vector<double> sigma;  // slope [rad], positive uphill (dz/ds = sin sigma)
+  std::vector<double> width;  // r_w, border to border [m]
+  std::vector<double> kappa;  // cos(sigma) dtheta/ds [1/m], positive turning left (eq. 12)
+  std::vector<double> nu;     // dsigma/ds [1/m] (eq. 12)
+  std::vector<double> tau;    // sin(sigma) dtheta/ds [1/m] (eq. 12)
+  // Geographic coordinates (empty when the input was in local metres).
+  std::vector<double> centre_lat, centre_lon, left_lat, left_lon, right_lat, right_lon;  // [deg]
+  std::vector<double> left_x, left_y, right_x, right_y;  // borders in the local frame [m]
+
+  // Per input point: where it projects and how far it is from the fitted ribbon.
+  std::vector<int64_t> point_line;   // 1-based line of the input file
+  std::vector<int64_t> point_side;   // 0 left border, 1 right border, 2 centre line
+  std::vector<double> point_s;       // [m]
+  std::vector<double> point_lateral, point_vertical, point_along;  // signed distances [m]
+
+  // Attributes.
+  bool closed = false;
+  double length_m = 0.0;
+  double ds_m = 0.0;
+  std::string crs_proj;  // PROJ string of the local frame, "" for local inputs
+  std::string crs_wkt;
+  double origin_lat_deg = 0.0, origin_lon_deg = 0.0;
+  double rms_distance_m = 0.0, max_distance_m = 0.0;
+  int64_t max_distance_line = 0;
+  double max_defect_position_m = 0.0, max_defect_angle_rad = 0.0;
+  std::string input_file, input_sha256, input_format;
+  std::string tool_version;
+  double smoothing_weight = 0.0;
+  bool converged = false;
+  int64_t iterations = 0;
+  double solve_seconds = 0.0;
+};
+
+// Writes atomically (temporary file, then rename). Throws InputError if `path` cannot be written.
+void WriteRoad(const std::string& path, const RoadArtefact& road);
+
+// Reads and checks schema, version, units and that all along-s datasets have the same length with
+// s strictly increasing. Throws InputError naming the file and what is wrong.
+RoadArtefact ReadRoad(const std::string& path);
+
+}  // namespace ttz
