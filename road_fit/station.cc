@@ -26,6 +26,10 @@ struct PolylineView {
 // Best station over segments first .. first + count - 1 (wrapping on a closed polyline).
 Station SearchWindow(const PolylineView& line, long first, long count, const PointXY& p) {
   const long n = line.segments();
+  if (!line.closed) {  // an open polyline's window stays inside it
+    first = std::clamp(first, 0L, std::max(0L, n - count));
+    count = std::min(count, n);
+  }
   Station best{0, 0.0, std::numeric_limits<double>::infinity()};
   for (long i = 0; i < count; ++i) {
     long k = first + i;
