@@ -1,0 +1,117 @@
+// Newton-Euler equations of the mono-wheel (eq. 13a-c, 14 with T_phi of eq. 15, and 16), written
+// as in the paper with every term moved to the left: each equation is an affine function of the
+// accelerations a = (dV/dt, dbeta/dt, d2z/dt2, d2phi/dt2, domega_w/dt), so together they are the
+// linear system A a = b (the mechanical rows of A_s in eq. 36), solved by SolveAccelerations.
+//
+// Decisions (see docs/lap.md): the paper's small-slope approximation sigma ~ sin(sigma) is replaced
+// by sin(sigma) (road.h5 defines dz/ds = sin(sigma)), cos(sigma) ~ 1 is kept as in the paper;
+// dOmega_z/dt is zero (kinematics.h).
+#pragma once
+
+#include <array>
+#include <cmath>
+
+#include "lap/model/kinematics.h"
+#include "lap/model/tyre.h"
+#include "lap/model/vehicle.h"
+
+namespace ttz::lap {
+
+// External loads acting on the chassis.
+template <typename T>
+struct ChassisLoads {
+  T F_x, F_y, N;   // tyre forces [N]
+  T D, L;          // aerodynamic drag and lift [N]
+  T tau_w, tau_r;  // wheel torque and rolling resistance [N m]
+};
+
+template <typename T>
+using Equations = std::array<Affine<T>, kNumAccels>;
+
+// Eq. 13a-c, 14-15 and 16 as residuals (left minus right side) affine in the accelerations.
+template <typename T>
+Equations<T> NewtonEuler(const Vehicle& v, const StateVector<T>& x, const Kinematics<T>& k,
+                         const ChassisLoads<T>& f, const RoadPoint& road) {
+  using std::cos;
+  using std::sin;
+  using A = Affine<T>;
+  const double M = v.M, a = v.h - v.r_t, r_t = v.r_t, g = v.g;
+  const double gs = g * std::sin(road.sigma);  // g sigma of the paper
+  const T& z = x[kZ];
+  const T& phi = x[kPhi];
+  const T& phid = x[kOmegaPhi];
+  const T& zd = x[kZdot];
+  const T sp = sin(phi), cp = cos(phi);
+  const T sal = sin(x[kAlpha]), cal = cos(x[kAlpha]);
+  const T &Ox = k.Omega_x, &Oy = k.Omega_y, &Oz = k.Omega_z;
+  const T &vx = k.v_x, &vy = k.v_y, &vz = k.v_z;
+  const A zdd = A::Unit(kZddot), phidd = A::Unit(kPhiddot), wd = A::Unit(kOmegaWdot);
+  Equations<T> e;
+
+  // eq. 13a (the -M sin(phi) (h - r_t) dOmega_z/dt term is zero)
+  e[0] = k.dv_x * Cst<T>(M) + k.dOmega_y * ((cp * (-a) - r_t + z) * M) +
+         A(-2.0 * M * a * (Oz * cp - Oy * sp) * phid + 2.0 * M * Oy * zd -
+           M * Ox * Oz * a * cp + M * Ox * Oy * a * sp + M * ((z - r_t) * Ox + vy) * Oz +
+           M * Oy * vz - (f.F_x - f.D - M * gs * cal));
+  // eq. 13b
+  e[1] = k.dv_y * Cst<T>(M) + phidd * (M * cp * a) + k.dOmega_x * (M * (a * cp + r_t - z)) +
+         A(-M * sp * a * phid * phid - 2.0 * M * sp * Ox * a * phid - 2.0 * M * Ox * zd -
+           M * a * (Oz * Oz + Ox * Ox) * sp - M * Oy * Oz * a * cp - M * ((r_t - z) * Oy - vx) * Oz -
+           M * Ox * vz - (f.F_y + f.L * sp + M * gs * sal));
+  // eq. 13c
+  e[2] = zdd * Cst<T>(M) + phidd * (M * sp * a) + k.dOmega_x * (M * sp * a) + k.dv_z * Cst<T>(M) +
+         A(M * cp * a * phid * phid + 2.0 * M * cp * Ox * a * phid +
+           M * cp * a * (Ox * Ox + Oy * Oy) + M * Oy * Oz * a * sp - M * (z - r_t) * Ox * Ox +
+           M * Ox * vy - M * (z - r_t) * Oy * Oy - M * Oy * vx - (M * g - f.N - f.L * cp));
+  // eq. 15: T_phi
+  const A T_phi =
+      (zdd + k.dv_z + A(-Oy * vx + Ox * vy - g)) * (a * sp) -
+      (k.dv_y + A(-2.0 * Ox * zd + Ox * vz - Oz * vx + gs * sal)) * (a * cp) +
+      (k.dOmega_x * (2.0 * cp) + A(-2.0 * cp * Oz * Oy + sp * (Oy * Oy - Oz * Oz - phid * phid -
+                                                              2.0 * Ox * phid))) *
+          (a * (r_t - z)) +
+      (k.dOmega_x + A(sp * cp * (Oy * Oy - Oz * Oz) - 2.0 * cp * cp * Ox * Oy)) * Cst<T>(a * a) +
+      k.dOmega_x * (z * z - 2.0 * r_t * z) + A((v.h - z) * (v.h - 2.0 * r_t + z) * Oy * Oz) +
+      (k.dv_y + A(-vz * Ox + vx * Oz - 2.0 * zd * Ox - gs * sal)) * (r_t - z);
+  // eq. 14
+  e[3] = phidd * ((-a * (z - r_t) * cp + a * a) * M + v.I_xx) + k.dOmega_x * Cst<T>(v.I_xx) +
+         A((Oz * cp - Oy * sp) * v.I_gy * x[kOmegaW] + sp * (z - r_t) * f.L +
+           (v.I_yy - v.I_zz) * (cp * sp * (Oy * Oy - Oz * Oz) + Oy * Oz * (1.0 - 2.0 * cp * cp))) +
+         T_phi * Cst<T>(M);
+  // eq. 16 (the sin(phi) dOmega_z/dt term is zero)
+  e[4] = wd * Cst<T>(v.I_wy) - k.dOmega_y * (v.I_wy * cp) +
+         A(-f.tau_w + f.tau_r + f.F_x * (v.r - v.r_t * (1.0 - cp) - z * cp) -
+           v.I_wy * (Oz * cp - Oy * sp) * phid);
+  return e;
+}
+
+// Solves the affine equations e(a) = 0 for the accelerations a: Gaussian elimination with partial
+// pivoting on the values (Eigen's LU does not accept nested Jets).
+template <typename T>
+std::array<T, kNumAccels> SolveAccelerations(const Equations<T>& e) {
+  constexpr int n = kNumAccels;
+  std::array<std::array<T, n + 1>, n> m;  // [A | b]
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) m[i][j] = e[i].a[j];
+    m[i][n] = -e[i].c;
+  }
+  for (int col = 0; col < n; ++col) {
+    int pivot = col;
+    for (int i = col + 1; i < n; ++i)
+      if (std::abs(Val(m[i][col])) > std::abs(Val(m[pivot][col]))) pivot = i;
+    std::swap(m[col], m[pivot]);
+    for (int i = col + 1; i < n; ++i) {
+      const T factor = m[i][col] / m[col][col];
+      for (int j = col; j <= n; ++j) m[i][j] = m[i][j] - factor * m[col][j];
+    }
+  }
+  std::array<T, n> acc;
+  for (int i = n - 1; i >= 0; --i) {
+    T sum = m[i][n];
+    for (int j = i + 1; j < n; ++j) sum = sum - m[i][j] * acc[j];
+    acc[i] = sum / m[i][i];
+  }
+  return acc;
+}
+
+}  // namespace ttz::lap

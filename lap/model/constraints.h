@@ -1,0 +1,72 @@
+// The path constraints of eq. 39a-g, the motor-voltage limits of section 5 and the brake bound,
+// each written as g(x, u) <= 0 scaled to order one, and the relaxed logarithmic barrier that
+// turns them into a penalty of the Hamiltonian (lap/solver/indirect.h).
+#pragma once
+
+#include <array>
+#include <cmath>
+
+#include "lap/model/dynamics.h"
+
+namespace ttz::lap {
+
+enum ConstraintIndex : int {
+  kBorderRight = 0,  // eq. 39a: n <= r_w/2 - margin
+  kBorderLeft,       // eq. 39a: -n <= r_w/2 - margin
+  kRollRateMax,      // eq. 39b
+  kRollRateMin,
+  kYawRateMax,       // eq. 39c
+  kYawRateMin,
+  kAdherence,        // eq. 39d (eq. 19)
+  kMotorCurrent,     // eq. 39e
+  kBatteryPower,     // eq. 39f
+  kCharge,           // eq. 39g: e >= 0
+  kMotorVoltageMax,  // section 5: V_mm <= V_max
+  kMotorVoltagePack, // section 5: V_mm <= V_mb
+  kBrakeTorque,      // tau_w >= -brake_torque_max (the control set U of eq. 38a)
+  kNumConstraints
+};
+
+inline constexpr std::array<const char*, kNumConstraints> kConstraintNames = {
+    "border_right", "border_left", "roll_rate_max", "roll_rate_min", "yaw_rate_max",
+    "yaw_rate_min", "adherence", "motor_current", "battery_power", "charge",
+    "motor_voltage_max", "motor_voltage_pack", "brake_torque"};
+
+template <typename T>
+using ConstraintVector = std::array<T, kNumConstraints>;
+
+// g_j <= 0, each scaled by its limit.
+template <typename T>
+ConstraintVector<T> EvaluateConstraints(const Vehicle& v, const StateVector<T>& x,
+                                        const ControlVector<T>& u, const RoadPoint& road,
+                                        const ModelPoint<T>& m) {
+  ConstraintVector<T> g;
+  const double half = 0.5 * road.width - v.border_margin;
+  g[kBorderRight] = x[kN] / half - 1.0;
+  g[kBorderLeft] = -x[kN] / half - 1.0;
+  g[kRollRateMax] = x[kOmegaPhi] / v.omega_phi_max - 1.0;
+  g[kRollRateMin] = -x[kOmegaPhi] / v.omega_phi_max - 1.0;
+  g[kYawRateMax] = u[kOmegaZ] / v.Omega_z_max - 1.0;
+  g[kYawRateMin] = -u[kOmegaZ] / v.Omega_z_max - 1.0;
+  g[kAdherence] = m.tyre.ellipse - 1.0;
+  g[kMotorCurrent] = m.power.i_m / v.motor.current_max - 1.0;
+  g[kBatteryPower] = m.power.P_b / v.P_b_max - 1.0;
+  g[kCharge] = -x[kE] / v.pack.e_i;
+  g[kMotorVoltageMax] = m.power.V_mm / v.motor.voltage_max - 1.0;
+  g[kMotorVoltagePack] = (m.power.V_mm - m.power.V_mb) / v.motor.voltage_max;
+  g[kBrakeTorque] = -u[kTauW] / v.brake_torque_max - 1.0;
+  return g;
+}
+
+// The relaxed barrier ("activation") of one constraint g <= 0: -log(-g) for g <= -delta, and for
+// g > -delta the quadratic that matches its value, slope and curvature at -delta, so the penalty is
+// C2 and finite everywhere and a slightly violated constraint costs a steep but finite amount.
+template <typename T>
+T RelaxedBarrier(const T& g, double delta) {
+  using std::log;
+  if (g <= -delta) return -log(-g);
+  const T d = (g + delta) / delta;
+  return -std::log(delta) + d + 0.5 * d * d;
+}
+
+}  // namespace ttz::lap

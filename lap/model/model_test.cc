@@ -1,0 +1,230 @@
+// Tests of the mono-wheel model: derivatives against numerical differentiation (every function
+// the solver differentiates), the power train against hand calculations, and physical limits.
+#include <ceres/ceres.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "lap/bike.h"
+#include "lap/model/constraints.h"
+#include "lap/model/dynamics.h"
+#include "lap/model/vehicle.h"
+
+namespace ttz::lap {
+namespace {
+
+Vehicle Bx15() {
+  return MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml"));
+}
+
+RoadPoint Curvy() {
+  RoadPoint r;
+  r.kappa = 0.01;
+  r.nu = 0.002;
+  r.tau = -0.001;
+  r.dkappa = 1e-4;
+  r.dnu = -2e-5;
+  r.dtau = 3e-5;
+  r.sigma = 0.05;
+  r.width = 7.0;
+  return r;
+}
+
+// A state at speed V leaning phi with a little of every other state.
+StateVector<double> SomeState(const Vehicle& v, double V) {
+  StateVector<double> x;
+  x[kN] = 0.7;
+  x[kAlpha] = 0.03;
+  x[kV] = V;
+  x[kBeta] = 0.01;
+  x[kZ] = v.M * v.g / v.K_s;
+  x[kPhi] = 0.3;
+  x[kOmegaW] = V / (v.r - 0.01) * 1.02;
+  x[kT] = 45.0;
+  x[kE] = 0.6 * v.pack.e_i;
+  x[kOmegaPhi] = 0.1;
+  x[kZdot] = 0.01;
+  return x;
+}
+
+// dx/ds and the constraints as a cost function of (x, u), for GradientChecker.
+struct ModelFunctor {
+  const Vehicle* v;
+  RoadPoint road;
+  template <typename T>
+  bool operator()(const T* x_in, const T* u_in, T* out) const {
+    StateVector<T> x;
+    ControlVector<T> u;
+    for (int i = 0; i < kNumStates; ++i) x[i] = x_in[i];
+    for (int i = 0; i < kNumControls; ++i) u[i] = u_in[i];
+    const ModelPoint<T> m = EvaluateModel(*v, x, u, road);
+    const ConstraintVector<T> g = EvaluateConstraints(*v, x, u, road, m);
+    for (int i = 0; i < kNumStates; ++i) out[i] = m.dx_ds[i];
+    for (int j = 0; j < kNumConstraints; ++j) out[kNumStates + j] = g[j];
+    return true;
+  }
+};
+
+TEST(ModelTest, DerivativesMatchNumericalDifferentiation) {
+  // First derivatives of x' and of every constraint with respect to every state and control,
+  // automatic (Jets) against central differences.
+  const Vehicle v = Bx15();
+  const ModelFunctor f{&v, Curvy()};
+  constexpr int kOut = kNumStates + kNumConstraints, kIn = kNumStates + kNumControls;
+  std::array<double, kIn> p;
+  const StateVector<double> x = SomeState(v, 30.0);
+  std::copy(x.begin(), x.end(), p.begin());
+  p[kNumStates + kOmegaZ] = 0.12;
+  p[kNumStates + kTauW] = 300.0;
+  using J = ceres::Jet<double, kIn>;
+  std::array<J, kIn> pj;
+  for (int i = 0; i < kIn; ++i) pj[i] = J(p[i], i);
+  std::array<J, kOut> out;
+  f(pj.data(), pj.data() + kNumStates, out.data());
+  for (int j = 0; j < kIn; ++j) {
+    const double h = 1e-6 * std::max(1e-2, std::abs(p[j]));
+    auto pp = p, pm = p;
+    pp[j] += h;
+    pm[j] -= h;
+    std::array<double, kOut> op, om;
+    f(pp.data(), pp.data() + kNumStates, op.data());
+    f(pm.data(), pm.data() + kNumStates, om.data());
+    for (int i = 0; i < kOut; ++i) {
+      const double numeric = (op[i] - om[i]) / (2 * h);
+      EXPECT_NEAR(out[i].v[j], numeric, 1e-5 * std::abs(numeric) + 1e-9)
+          << "output " << i << " input " << j;
+    }
+  }
+}
+
+TEST(ModelTest, SecondDerivativesOfNestedJetsMatchDifferencesOfFirst) {
+  // The solver takes the costate equations' Jacobian from nested Jets; check them against central
+  // differences of first-order Jets on the speed derivative V' (which depends on everything).
+  using J1 = ceres::Jet<double, kNumStates>;
+  using J2 = ceres::Jet<J1, kNumStates>;
+  const Vehicle v = Bx15();
+  const StateVector<double> x0 = SomeState(v, 25.0);
+  const ControlVector<double> u0 = {0.1, 200.0};
+  auto first = [&](const StateVector<double>& x) {
+    StateVector<J1> xj;
+    ControlVector<J1> uj = {J1(u0[0]), J1(u0[1])};
+    for (int i = 0; i < kNumStates; ++i) xj[i] = J1(x[i], i);
+    return EvaluateModel(v, xj, uj, Curvy()).dx_ds[kV];
+  };
+  StateVector<J2> x2;
+  ControlVector<J2> u2 = {J2(J1(u0[0])), J2(J1(u0[1]))};
+  for (int i = 0; i < kNumStates; ++i) x2[i] = J2(J1(x0[i], i), i);
+  const J2 f2 = EvaluateModel(v, x2, u2, Curvy()).dx_ds[kV];
+  for (int j = 0; j < kNumStates; ++j) {
+    StateVector<double> xp = x0, xm = x0;
+    const double h = 1e-6 * std::max(1.0, std::abs(x0[j]));
+    xp[j] += h;
+    xm[j] -= h;
+    const J1 fp = first(xp), fm = first(xm);
+    for (int i = 0; i < kNumStates; ++i) {
+      const double numeric = (fp.v[i] - fm.v[i]) / (2 * h);
+      const double scale = std::max(1e-6, std::abs(numeric));
+      EXPECT_NEAR(f2.v[j].v[i], numeric, 1e-4 * scale + 1e-9) << "d2 V' / dx" << i << " dx" << j;
+    }
+    EXPECT_NEAR(f2.a.v[j], f2.v[j].a, 1e-12 * std::max(1.0, std::abs(f2.a.v[j])));
+  }
+}
+
+TEST(ModelTest, StraightLevelCoastingDeceleratesByDragAndRolling) {
+  const Vehicle v = Bx15();
+  const RoadPoint road{};  // straight, level
+  StateVector<double> x{};
+  x[kV] = 40.0;
+  x[kZ] = (v.M * v.g - v.lift_k * 1600.0) / v.K_s;
+  x[kT] = 40.0;
+  x[kE] = v.pack.e_i;
+  const double R_e = v.r - x[kZ];
+  x[kOmegaW] = 40.0 / R_e;  // no slip: F_x = 0
+  const ModelPoint<double> m = EvaluateModel(v, x, ControlVector<double>{0.0, 0.0}, road);
+  // Wheel torque zero, no slip: the chassis decelerates by drag only and the wheel by rolling.
+  EXPECT_NEAR(m.acc[kVdot], -v.drag_k * 1600.0 / v.M, 1e-9);
+  EXPECT_NEAR(m.tyre.N, v.M * v.g - v.lift_k * 1600.0, 1e-3 * v.M * v.g);
+  EXPECT_NEAR(m.acc[kZddot], 0.0, 1e-2);
+  EXPECT_NEAR(m.acc[kPhiddot], 0.0, 1e-12);  // upright: no roll moment
+  EXPECT_NEAR(m.acc[kOmegaWdot], -m.tyre.tau_r / v.I_wy, 1e-9);
+  EXPECT_NEAR(m.tyre.tau_r, v.mu_r * m.tyre.N * R_e, 1e-9);
+  EXPECT_NEAR(m.dx_ds[kV], m.acc[kVdot] / 40.0, 1e-12);
+}
+
+TEST(ModelTest, SteadyLeanBalancesTheRollEquation) {
+  // In a steady turn (no roll, yaw or slope change) eq. 14 reduces to a balance of gravity,
+  // centrifugal and gyroscopic moments; at the lean angle that zeroes it, d2phi/dt2 must vanish.
+  const Vehicle v = Bx15();
+  RoadPoint road{};
+  const double V = 20.0, R = 50.0, Oz = V / R;
+  road.kappa = 1.0 / R;
+  const double a = v.h - v.r_t;
+  auto roll_acc = [&](double phi) {
+    StateVector<double> x{};
+    x[kV] = V;
+    x[kZ] = v.M * v.g / v.K_s;
+    x[kPhi] = phi;
+    x[kT] = 40.0;
+    x[kE] = v.pack.e_i;
+    x[kOmegaW] = V / (v.r - v.r_t + std::cos(phi) * (v.r_t - x[kZ]));
+    return EvaluateModel(v, x, ControlVector<double>{Oz, 0.0}, road).acc[kPhiddot];
+  };
+  // Bisection for the equilibrium lean, then compare with the closed form of eq. 14-15 at z ~ 0:
+  // M a (g sin(phi) - V Oz cos(phi)) - M r_t V Oz - I_gy w Oz cos(phi) + (I_yy - I_zz - M a^2)
+  // cos(phi) sin(phi) Oz^2 + M a r_t sin(phi) Oz^2 ~ 0.
+  double lo = 0.0, hi = 1.2;
+  for (int i = 0; i < 80; ++i) ((roll_acc(lo) > 0) == (roll_acc(0.5 * (lo + hi)) > 0) ? lo : hi) =
+      0.5 * (lo + hi);
+  const double phi = 0.5 * (lo + hi);
+  const double textbook = std::atan(V * Oz / v.g);
+  EXPECT_GT(phi, textbook);  // the tyre's toroid and the gyroscopic moment both add lean
+  EXPECT_LT(phi, textbook + 0.15);
+  (void)a;
+}
+
+TEST(PowertrainTest, BatteryCurrentSolvesThePowerBalance) {
+  const Vehicle v = Bx15();
+  for (double tau_w : {50.0, 400.0, 900.0}) {
+    const Powertrain<double> p = ComputePowertrain(v, tau_w, 150.0, 40.0, 50.0, 0.7 * v.pack.e_i);
+    // eq. 23 with eq. 22a: V_mm i_m = eta_mc (V_bn - i_b R_b) i_b.
+    EXPECT_NEAR(p.V_mm * p.i_m, v.eta_mc * (p.V_bn - p.i_b * v.pack.R_b) * p.i_b,
+                1e-6 * p.V_mm * p.i_m);  // the smoothed discriminant (smooth.h) biases it by ~1e-7
+    // The paper's eq. 32 (eta_m read as eta_mc, i_m = tau_e / k_tau) for the same motor power.
+    const double R = v.pack.R_b, V = p.V_bn, eta = v.eta_mc;
+    const double i_paper =
+        V / (2 * R) - std::sqrt(eta * (V * V * eta - 4 * R * p.P_m)) / (2 * R * eta);
+    EXPECT_NEAR(p.i_b, i_paper, 1e-6 * p.i_b);
+    // Hand calculation of the motor side (eq. 24-26, 31).
+    const double dT = 50.0 - v.motor.T_0;
+    const double k_tau = v.motor.k_tau0 - v.motor.sigma_m * dT;
+    const double tau_e = p.tau_t / (v.eta_c * v.gamma_c);
+    EXPECT_NEAR(p.tau_e, tau_e, 1e-12 * tau_e);
+    EXPECT_NEAR(p.tau_t, tau_w, 2.0 * 2.0 / tau_w);
+    const double i_m = tau_e / k_tau + v.motor.i_m0 * p.tau_t / (p.tau_t + 2.0);
+    EXPECT_NEAR(p.i_m, i_m, 1e-9 * i_m);
+    const double V_mm = (v.motor.k_V0 - v.motor.sigma_m * dT) * 150.0 * v.gamma_c +
+                        (v.motor.R_m0 + v.motor.sigma_R * dT) * i_m;
+    EXPECT_NEAR(p.V_mm, V_mm, 1e-9 * V_mm);
+    EXPECT_NEAR(p.e_dot, -p.V_bn * p.i_b, 1e-9);
+  }
+}
+
+TEST(PowertrainTest, BrakingDrawsNoCurrent) {
+  const Vehicle v = Bx15();
+  const Powertrain<double> p = ComputePowertrain(v, -800.0, 150.0, 40.0, 50.0, v.pack.e_i);
+  EXPECT_LT(std::abs(p.i_m), 0.05);
+  EXPECT_NEAR(p.tau_b, -800.0, 0.01);
+}
+
+TEST(BarrierTest, IsC2AtTheJoin) {
+  const double d = 1e-3;
+  using J = ceres::Jet<ceres::Jet<double, 1>, 1>;
+  auto eval = [&](double g) { return RelaxedBarrier(J(ceres::Jet<double, 1>(g, 0), 0), d); };
+  const J left = eval(-d - 1e-12), right = eval(-d + 1e-12);
+  EXPECT_NEAR(left.a.a, right.a.a, 1e-6);
+  EXPECT_NEAR(left.v[0].a, right.v[0].a, 1e-3);
+  EXPECT_NEAR(left.v[0].v[0], right.v[0].v[0], 1e-3 / (d * d));
+}
+
+}  // namespace
+}  // namespace ttz::lap

@@ -1,0 +1,56 @@
+// Scalar helpers for model code templated on T = double, ceres::Jet<double, N> (first derivatives)
+// or ceres::Jet<ceres::Jet<double, N>, M> (second derivatives).
+//
+// Ceres 2.1 mixes a Jet<U, N> only with a scalar of type U, so for nested Jets `2.0 * x` would not
+// compile. The operators below add the missing mixed arithmetic of a nested Jet with a double, so
+// the physics reads as the paper's equations. Comparisons (x < 0.0) compare values already.
+#pragma once
+
+#include <ceres/jet.h>
+
+namespace ceres {
+
+#define TTZ_NESTED_JET_OP(OP)                                                                  \
+  template <typename U, int N, int M>                                                         \
+  inline Jet<Jet<U, N>, M> operator OP(const Jet<Jet<U, N>, M>& f, double s) {                \
+    return f OP Jet<U, N>(s);                                                                 \
+  }                                                                                           \
+  template <typename U, int N, int M>                                                         \
+  inline Jet<Jet<U, N>, M> operator OP(double s, const Jet<Jet<U, N>, M>& f) {                \
+    return Jet<U, N>(s) OP f;                                                                 \
+  }
+TTZ_NESTED_JET_OP(+)
+TTZ_NESTED_JET_OP(-)
+TTZ_NESTED_JET_OP(*)
+TTZ_NESTED_JET_OP(/)
+#undef TTZ_NESTED_JET_OP
+
+}  // namespace ceres
+
+namespace ttz::lap {
+
+template <typename T>
+struct ScalarTraits {
+  static T Constant(double x) { return T(x); }
+  static double Value(const T& x) { return static_cast<double>(x); }
+};
+
+template <typename U, int N>
+struct ScalarTraits<ceres::Jet<U, N>> {
+  static ceres::Jet<U, N> Constant(double x) { return ceres::Jet<U, N>(ScalarTraits<U>::Constant(x)); }
+  static double Value(const ceres::Jet<U, N>& x) { return ScalarTraits<U>::Value(x.a); }
+};
+
+// The constant x as a T (derivative parts zero).
+template <typename T>
+inline T Cst(double x) {
+  return ScalarTraits<T>::Constant(x);
+}
+
+// The value part of x as a double (drops all derivatives).
+template <typename T>
+inline double Val(const T& x) {
+  return ScalarTraits<T>::Value(x);
+}
+
+}  // namespace ttz::lap

@@ -1,0 +1,55 @@
+#include "lap/road_track.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ttz::lap {
+
+RoadTrack::RoadTrack(const RoadArtefact& road)
+    : kappa_(road.kappa), nu_(road.nu), tau_(road.tau), sigma_(road.sigma), width_(road.width),
+      closed_(road.closed) {
+  for (double& k : kappa_) k = -k;  // road.h5: left turn positive; model: right turn positive
+  ds_ = road.s[1] - road.s[0];
+  length_ = road.s.back() - road.s.front();
+}
+
+// Catmull-Rom (cubic Hermite with central-difference slopes) through uniform samples.
+double RoadTrack::Sample(const std::vector<double>& f, double s, double* derivative) const {
+  const int n = static_cast<int>(f.size());
+  const double u = std::clamp(s, 0.0, length_) / ds_;
+  const int i = std::clamp(static_cast<int>(std::floor(u)), 0, n - 2);
+  const double t = u - i;
+  auto at = [&](int j) { return f[std::clamp(j, 0, n - 1)]; };
+  auto slope = [&](int j) {
+    if (j <= 0) return at(1) - at(0);
+    if (j >= n - 1) return at(n - 1) - at(n - 2);
+    return 0.5 * (at(j + 1) - at(j - 1));
+  };
+  const double p0 = at(i), p1 = at(i + 1), m0 = slope(i), m1 = slope(i + 1);
+  const double t2 = t * t, t3 = t2 * t;
+  *derivative = ((6 * t2 - 6 * t) * p0 + (3 * t2 - 4 * t + 1) * m0 + (-6 * t2 + 6 * t) * p1 +
+                 (3 * t2 - 2 * t) * m1) / ds_;
+  return (2 * t3 - 3 * t2 + 1) * p0 + (t3 - 2 * t2 + t) * m0 + (-2 * t3 + 3 * t2) * p1 +
+         (t3 - t2) * m1;
+}
+
+RoadPoint RoadTrack::At(double s) const {
+  RoadPoint p;
+  double unused;
+  p.s = s;
+  p.kappa = Sample(kappa_, s, &p.dkappa);
+  p.nu = Sample(nu_, s, &p.dnu);
+  p.tau = Sample(tau_, s, &p.dtau);
+  p.sigma = Sample(sigma_, s, &unused);
+  p.width = Sample(width_, s, &unused);
+  return p;
+}
+
+std::vector<double> UniformMesh(double length, double ds) {
+  const int n = std::max(1, static_cast<int>(std::ceil(length / ds - 1e-9)));
+  std::vector<double> s(n + 1);
+  for (int i = 0; i <= n; ++i) s[i] = length * i / n;
+  return s;
+}
+
+}  // namespace ttz::lap

@@ -1,0 +1,71 @@
+// The indirect solver of the minimum-lap-time problem (eq. 38) by Ceres: the necessary conditions
+// of the barrier-penalised problem, transcribed with the trapezoidal rule on an arc-length mesh, as
+// a square residual system in the states and costates of every node (controls eliminated per node,
+// lap/solver/node.h), solved by Levenberg-Marquardt (Newton with a large trust region) with sparse
+// Cholesky, along a continuation of the barrier weight eps; the lap time is extrapolated to eps = 0.
+// Design and evidence: ../shared/notes/lap-solver-prototype.md, docs/lap.md.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "lap/model/constraints.h"
+#include "lap/model/state.h"
+#include "lap/model/vehicle.h"
+#include "lap/road_track.h"
+#include "lap/solver/hamiltonian.h"
+
+namespace ttz::lap {
+
+struct IndirectOptions {
+  double eps_start = 0.1;        // first barrier weight [1]
+  double eps_end = 1e-4;         // last barrier weight [1]
+  double eps_factor = 0.7;       // eps_{k+1} = factor eps_k; halved in log on a failed step
+  int max_retries = 4;           // failed continuation steps retried with a smaller factor
+  int max_iterations = 300;      // Ceres iterations per continuation step
+  double residual_tolerance = 1e-9;  // Ceres stops at ||residual|| <= this; a step must reach max 10x this
+  double constraint_tolerance = 1e-4;  // largest allowed g_j > 0 (relative) in the answer
+  int num_threads = 2;           // for the node evaluations and Ceres
+  bool verbose = false;          // Ceres' per-iteration log
+};
+
+struct ContinuationStep {
+  double eps = 0.0;
+  double lap_time = 0.0;  // [s]
+  int iterations = 0;
+  double seconds = 0.0;
+  bool converged = false;
+};
+
+struct IndirectSolution {
+  std::vector<double> s;                       // mesh [m]
+  std::vector<StateVector<double>> x;          // states (physical units)
+  std::vector<StateVector<double>> lambda;     // costates of the scaled states [s]
+  std::vector<ControlVector<double>> u;        // controls (physical units)
+  std::vector<double> t;                       // time [s]
+  double eps = 0.0;                            // barrier weight of this solution
+  double lap_time = 0.0;                       // at eps [s]
+  double lap_time_extrapolated = 0.0;          // linear extrapolation to eps = 0 [s]
+};
+
+struct IndirectSummary {
+  bool converged = false;                      // every check below passed
+  std::string message;                         // why not, when not
+  std::vector<ContinuationStep> steps;
+  int iterations = 0;                          // Ceres iterations in all steps
+  double solve_seconds = 0.0;
+  double max_residual = 0.0;                   // scaled, of the final system
+  double max_state_defect = 0.0;               // scaled trapezoidal state defect
+  std::vector<double> max_violation;           // per constraint kind (kConstraintNames), max g_j
+  int control_failures = 0;                    // nodes whose H_u = 0 Newton did not converge
+};
+
+// Solves from the initial guess (x, and lambda or zeros); x[0] is the fixed initial state.
+IndirectSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
+                               const std::vector<double>& mesh,
+                               const std::vector<StateVector<double>>& x_guess,
+                               const std::vector<StateVector<double>>& lambda_guess,
+                               const std::vector<ControlVector<double>>& u_guess,
+                               const IndirectOptions& options, IndirectSummary* summary);
+
+}  // namespace ttz::lap
