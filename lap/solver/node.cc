@@ -114,8 +114,10 @@ void WithDerivatives(const Vehicle& v, const Scales& sc, const RoadPoint& road,
   const Eigen::Matrix2d Huu = Hzz.bottomRightCorner<kNumControls, kNumControls>();
   const Eigen::Matrix2d Huu_inv = Huu.inverse();
   // H_u(x, lambda, u*(x, lambda)) = 0: du/dx = -Huu^-1 H_ux, du/dlambda = -Huu^-1 F_u^T.
-  const Eigen::Matrix<double, kNumControls, kNumStates> du_dx = -Huu_inv * Hxu.transpose();
-  const Eigen::Matrix<double, kNumControls, kNumStates> du_dl = -Huu_inv * Fu.transpose();
+  node->du_dx = -Huu_inv * Hxu.transpose();
+  node->du_dl = -Huu_inv * Fu.transpose();
+  const auto& du_dx = node->du_dx;
+  const auto& du_dl = node->du_dl;
   node->dF_dx = Fx + Fu * du_dx;
   node->dF_dl = Fu * du_dl;
   node->dG_dx = Hxx + Hxu * du_dx;

@@ -21,6 +21,7 @@ struct NodeData {
   double dt_ds = 0.0;        // 1 / sdot [s/m]
   NodeVector F, G;           // x~' and H_x~
   NodeMatrix dF_dx, dF_dl, dG_dx, dG_dl;  // total derivatives (Jacobians only)
+  Eigen::Matrix<double, kNumControls, kNumStates> du_dx, du_dl;  // of u~* (Jacobians only)
 };
 
 // Fills `node` for scaled state xs and costate lambda; the Newton for u* starts from
