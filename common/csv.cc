@@ -11,11 +11,9 @@
 namespace ttz {
 namespace {
 
+// A cell or line without surrounding blanks and, if quoted, without its quotes.
 std::string Trim(const std::string& s) {
-  const auto begin = s.find_first_not_of(" \t\r\n");
-  if (begin == std::string::npos) return "";
-  const auto end = s.find_last_not_of(" \t\r\n");
-  std::string t = s.substr(begin, end - begin + 1);
+  std::string t = TrimSpace(s);
   if (t.size() >= 2 && t.front() == '"' && t.back() == '"') t = t.substr(1, t.size() - 2);
   return t;
 }
@@ -47,6 +45,13 @@ bool IsNumber(const std::string& s) {
 bool AllNumbers(const std::vector<std::string>& cells) { return std::all_of(cells.begin(), cells.end(), IsNumber); }
 
 }  // namespace
+
+std::string TrimSpace(const std::string& s) {
+  const auto begin = s.find_first_not_of(" \t\r\n");
+  if (begin == std::string::npos) return "";
+  const auto end = s.find_last_not_of(" \t\r\n");
+  return s.substr(begin, end - begin + 1);
+}
 
 std::string ToLower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });

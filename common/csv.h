@@ -35,4 +35,7 @@ CsvTable ReadCsv(const std::string& path);
 // Lower-case copy, for case-insensitive comparisons.
 std::string ToLower(std::string s);
 
+// Copy without leading and trailing blanks (spaces, tabs, CR, LF).
+std::string TrimSpace(const std::string& s);
+
 }  // namespace ttz

@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "common/csv.h"
 #include "common/error.h"
 
 namespace ttz::lap {
@@ -208,13 +209,6 @@ std::string Join(const std::vector<std::string>& items) {
   return s;
 }
 
-std::string Trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t");
-  if (b == std::string::npos) return "";
-  const auto e = s.find_last_not_of(" \t");
-  return s.substr(b, e - b + 1);
-}
-
 // Where a key's value came from: a line of the file or an override.
 class Locator {
  public:
@@ -275,8 +269,8 @@ void ApplyOverrides(YAML::Node& root, const std::vector<std::string>& overrides,
     const auto eq = text.find('=');
     if (eq == std::string::npos)
       throw InputError("override '" + text + "'", "expected section.key=value");
-    const std::string path = Trim(text.substr(0, eq));
-    const std::string value = Trim(text.substr(eq + 1));
+    const std::string path = TrimSpace(text.substr(0, eq));
+    const std::string value = TrimSpace(text.substr(eq + 1));
     const KeySpec* spec = FindKey(path);
     if (!spec)
       throw InputError("override '" + text + "'",

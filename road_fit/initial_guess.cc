@@ -167,13 +167,7 @@ Ribbon InitialRibbon(const CentrePolyline& centre_in, double ds_m, bool closed) 
   ribbon.x.resize(n + 1);
   for (long k = 0; k <= n; ++k)
     ribbon.x[k] = {pos[0][k], pos[1][k], pos[2][k], theta[k], sigma[k], theta_hat[k], sigma_hat[k], width[k], k * ribbon.h};
-  ribbon.u.resize(n);
-  for (long k = 0; k < n; ++k) {
-    const auto& a = ribbon.x[k];
-    const auto& b = ribbon.x[k + 1];
-    ribbon.u[k] = {(b[kThetaHat] - a[kThetaHat]) / ribbon.h, (b[kSigmaHat] - a[kSigmaHat]) / ribbon.h,
-                   (b[kWidth] - a[kWidth]) / ribbon.h, 0.0};
-  }
+  SetControlsFromStates(&ribbon);
   return ribbon;
 }
 

@@ -160,6 +160,17 @@ void PointResiduals(const RoadInput& input, const std::vector<Station>& stations
 
 }  // namespace
 
+void SetControlsFromStates(Ribbon* ribbon) {
+  ribbon->u.resize(ribbon->x.size() - 1);
+  for (size_t k = 0; k < ribbon->u.size(); ++k) {
+    const auto& a = ribbon->x[k];
+    const auto& b = ribbon->x[k + 1];
+    ribbon->u[k] = {(b[kThetaHat] - a[kThetaHat]) / ribbon->h,
+                    (b[kSigmaHat] - a[kSigmaHat]) / ribbon->h, (b[kWidth] - a[kWidth]) / ribbon->h,
+                    0.0};
+  }
+}
+
 Ribbon FitRibbon(const RoadInput& input, const FitOptions& options, FitSummary* summary) {
   const CentrePolyline centre = RoughCentre(input);
   const bool closed = options.topology == Topology::kAuto ? LooksClosed(centre, options.closure_gap_m)

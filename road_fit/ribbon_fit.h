@@ -46,6 +46,11 @@ struct Ribbon {
   double length() const { return x.back()[kS] - x.front()[kS]; }
 };
 
+// Sets the controls that reproduce the states' rate and width changes between nodes (forward
+// differences of theta-hat, sigma-hat and r_w over h; u_s = 0): the controls of a guess built from
+// states alone.
+void SetControlsFromStates(Ribbon* ribbon);
+
 // Where each measured point sits on the ribbon after the fit and how far it is from it.
 struct PointResidual {
   long line = 0;            // input line of the point

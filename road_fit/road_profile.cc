@@ -75,13 +75,7 @@ Ribbon RibbonFromProfile(const RoadProfile& p) {
     const double theta_hat = p.kappa[k] / std::cos(p.sigma[k]);  // inverse of eq. 12
     ribbon.x[k] = {p.x[k], p.y[k], p.z[k], p.theta[k], p.sigma[k], theta_hat, p.nu[k], p.width[k], p.s[k]};
   }
-  ribbon.u.resize(n - 1);
-  for (size_t k = 0; k + 1 < n; ++k) {
-    const auto& a = ribbon.x[k];
-    const auto& b = ribbon.x[k + 1];
-    ribbon.u[k] = {(b[kThetaHat] - a[kThetaHat]) / ribbon.h, (b[kSigmaHat] - a[kSigmaHat]) / ribbon.h,
-                   (b[kWidth] - a[kWidth]) / ribbon.h, 0.0};
-  }
+  SetControlsFromStates(&ribbon);
   return ribbon;
 }
 

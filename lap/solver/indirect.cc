@@ -25,7 +25,7 @@ struct Transcription {
   std::vector<double> s;
   std::vector<double> w;  // (N + 1) x kW: [x~_k, lambda~_k]
   std::vector<NodeData> nodes;
-  BarrierWeight weight{0.1, 1e-3};
+  BarrierWeight weight{};  // set by the continuation before each solve
   int threads = 1;
   bool all_valid = false;
 
@@ -131,6 +131,9 @@ class AcceptControls : public ceres::IterationCallback {
   Transcription* tr_;
 };
 
+// The barrier weight eps with its relaxation delta = min(1e-3, 0.1 eps) (lap-solver notes).
+BarrierWeight WeightFor(double eps) { return {eps, std::min(1e-3, 0.1 * eps)}; }
+
 // Largest |residual| of the system at the current unknowns (state part and all).
 void ResidualLevels(Transcription* tr, double* max_all, double* max_state) {
   tr->EvaluateNodes(false);
@@ -215,8 +218,9 @@ IndirectSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
   bool first = true, failed = false;
   int retries = 0;
   std::vector<ContinuationStep> good;
+  double good_max_all = HUGE_VAL, good_max_state = HUGE_VAL;  // residual levels of w_good
   while (true) {
-    tr.weight = {eps, std::min(1e-3, 0.1 * eps)};
+    tr.weight = WeightFor(eps);
     so.use_nonmonotonic_steps = first;
     so.initial_trust_region_radius = first ? 1e4 : 1e12;
     ceres::Solver::Summary cs;
@@ -241,6 +245,8 @@ IndirectSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
     }
     if (step.converged) {
       good.push_back(step);
+      good_max_all = max_all;
+      good_max_state = max_state;
       w_good = tr.w;
       nodes_good = tr.nodes;
       first = false;
@@ -269,11 +275,6 @@ IndirectSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
   sol.lambda.resize(n);
   sol.u.resize(n);
   sol.t.assign(n, 0.0);
-  double max_all = HUGE_VAL, max_state = HUGE_VAL;
-  if (!good.empty()) {
-    tr.weight = {good.back().eps, std::min(1e-3, 0.1 * good.back().eps)};
-    ResidualLevels(&tr, &max_all, &max_state);
-  }
   summary->max_violation.assign(kNumConstraints, -HUGE_VAL);
   summary->control_failures = 0;
   for (int k = 0; k < n; ++k) {
@@ -299,13 +300,14 @@ IndirectSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
     const ContinuationStep& b = good.back();
     sol.lap_time_extrapolated = b.lap_time - (a.lap_time - b.lap_time) * b.eps / (a.eps - b.eps);
   }
-  summary->max_residual = max_all;
-  summary->max_state_defect = max_state;
+  summary->max_residual = good_max_all;
+  summary->max_state_defect = good_max_state;
   const double worst = *std::max_element(summary->max_violation.begin(),
                                          summary->max_violation.end());
   std::ostringstream why;
   if (failed) why << "continuation failed at eps " << eps << "; ";
-  if (!(max_all <= 10.0 * options.residual_tolerance)) why << "residual " << max_all << "; ";
+  if (!(good_max_all <= 10.0 * options.residual_tolerance))
+    why << "residual " << good_max_all << "; ";
   if (!(worst <= options.constraint_tolerance)) why << "constraint violated by " << worst << "; ";
   if (summary->control_failures > 0)
     why << summary->control_failures << " nodes without converged controls; ";
