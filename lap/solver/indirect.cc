@@ -153,12 +153,12 @@ void ResidualLevels(Transcription* tr, double* max_all, double* max_state) {
 
 }  // namespace
 
-IndirectSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
-                               const std::vector<double>& mesh,
-                               const std::vector<StateVector<double>>& x_guess,
-                               const std::vector<StateVector<double>>& lambda_guess,
-                               const std::vector<ControlVector<double>>& u_guess,
-                               const IndirectOptions& options, IndirectSummary* summary) {
+LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
+                          const std::vector<double>& mesh,
+                          const std::vector<StateVector<double>>& x_guess,
+                          const std::vector<StateVector<double>>& lambda_guess,
+                          const std::vector<ControlVector<double>>& u_guess,
+                          const IndirectOptions& options, SolveSummary* summary) {
   const auto start = std::chrono::steady_clock::now();
   const int n = static_cast<int>(mesh.size());
   Transcription tr;
@@ -269,7 +269,7 @@ IndirectSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
   tr.w = w_good;
   tr.nodes = nodes_good;
 
-  IndirectSolution sol;
+  LapSolution sol;
   sol.s = mesh;
   sol.x.resize(n);
   sol.lambda.resize(n);

@@ -6,7 +6,6 @@
 // Design and evidence: ../shared/notes/lap-solver-prototype.md, docs/lap.md.
 #pragma once
 
-#include <string>
 #include <vector>
 
 #include "lap/model/constraints.h"
@@ -14,6 +13,7 @@
 #include "lap/model/vehicle.h"
 #include "lap/road_track.h"
 #include "lap/solver/hamiltonian.h"
+#include "lap/solver/solution.h"
 
 namespace ttz::lap {
 
@@ -29,43 +29,12 @@ struct IndirectOptions {
   bool verbose = false;          // Ceres' per-iteration log
 };
 
-struct ContinuationStep {
-  double eps = 0.0;
-  double lap_time = 0.0;  // [s]
-  int iterations = 0;
-  double seconds = 0.0;
-  bool converged = false;
-};
-
-struct IndirectSolution {
-  std::vector<double> s;                       // mesh [m]
-  std::vector<StateVector<double>> x;          // states (physical units)
-  std::vector<StateVector<double>> lambda;     // costates of the scaled states [s]
-  std::vector<ControlVector<double>> u;        // controls (physical units)
-  std::vector<double> t;                       // time [s]
-  double eps = 0.0;                            // barrier weight of this solution
-  double lap_time = 0.0;                       // at eps [s]
-  double lap_time_extrapolated = 0.0;          // linear extrapolation to eps = 0 [s]
-};
-
-struct IndirectSummary {
-  bool converged = false;                      // every check below passed
-  std::string message;                         // why not, when not
-  std::vector<ContinuationStep> steps;
-  int iterations = 0;                          // Ceres iterations in all steps
-  double solve_seconds = 0.0;
-  double max_residual = 0.0;                   // scaled, of the final system
-  double max_state_defect = 0.0;               // scaled trapezoidal state defect
-  std::vector<double> max_violation;           // per constraint kind (kConstraintNames), max g_j
-  int control_failures = 0;                    // nodes whose H_u = 0 Newton did not converge
-};
-
 // Solves from the initial guess (x, and lambda or zeros); x[0] is the fixed initial state.
-IndirectSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
-                               const std::vector<double>& mesh,
-                               const std::vector<StateVector<double>>& x_guess,
-                               const std::vector<StateVector<double>>& lambda_guess,
-                               const std::vector<ControlVector<double>>& u_guess,
-                               const IndirectOptions& options, IndirectSummary* summary);
+LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
+                          const std::vector<double>& mesh,
+                          const std::vector<StateVector<double>>& x_guess,
+                          const std::vector<StateVector<double>>& lambda_guess,
+                          const std::vector<ControlVector<double>>& u_guess,
+                          const IndirectOptions& options, SolveSummary* summary);
 
 }  // namespace ttz::lap

@@ -26,8 +26,8 @@ TEST(IndirectTest, StraightLevelRoadFromAStandingStart) {
   const RoadTrack road(StraightRoad(300.0));
   const std::vector<double> mesh = UniformMesh(road.Length(), 2.0);
   const QssLap qss = ComputeQss(v, road, mesh);
-  IndirectSummary summary;
-  const IndirectSolution sol =
+  SolveSummary summary;
+  const LapSolution sol =
       SolveIndirect(v, road, mesh, qss.x, {}, qss.u, IndirectOptions{}, &summary);
   ASSERT_TRUE(summary.converged) << summary.message;
   EXPECT_LE(summary.max_residual, 1e-8);

@@ -1,0 +1,45 @@
+// What a lap solver returns, whichever solver it is (lap/solver/indirect.h, the Ipopt oracle):
+// the optimal states, costates and controls on the mesh, and a summary whose `converged` comes
+// from the solver's own checks of its answer, never from the optimiser's word alone.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "lap/model/constraints.h"
+#include "lap/model/state.h"
+
+namespace ttz::lap {
+
+struct ContinuationStep {
+  double eps = 0.0;       // barrier weight [1]
+  double lap_time = 0.0;  // [s]
+  int iterations = 0;
+  double seconds = 0.0;
+  bool converged = false;
+};
+
+struct LapSolution {
+  std::vector<double> s;                       // mesh [m]
+  std::vector<StateVector<double>> x;          // states (physical units)
+  std::vector<StateVector<double>> lambda;     // costates of the scaled states [s]
+  std::vector<ControlVector<double>> u;        // controls (physical units)
+  std::vector<double> t;                       // time [s]
+  double eps = 0.0;                            // barrier weight of this solution (0: none)
+  double lap_time = 0.0;                       // at eps [s]
+  double lap_time_extrapolated = 0.0;          // linear extrapolation to eps = 0 [s]
+};
+
+struct SolveSummary {
+  bool converged = false;                      // every check below passed
+  std::string message;                         // why not, when not
+  std::vector<ContinuationStep> steps;         // barrier continuation (indirect solver)
+  int iterations = 0;                          // optimiser iterations in all steps
+  double solve_seconds = 0.0;
+  double max_residual = 0.0;                   // scaled, of the final system
+  double max_state_defect = 0.0;               // scaled trapezoidal state defect
+  std::vector<double> max_violation;           // per constraint kind (kConstraintNames), max g_j
+  int control_failures = 0;                    // nodes whose H_u = 0 Newton did not converge
+};
+
+}  // namespace ttz::lap
