@@ -197,23 +197,35 @@ TEST(PowertrainTest, BatteryCurrentSolvesThePowerBalance) {
     // Hand calculation of the motor side (eq. 24-26, 31).
     const double dT = 50.0 - v.motor.T_0;
     const double k_tau = v.motor.k_tau0 - v.motor.sigma_m * dT;
-    const double tau_e = p.tau_t / (v.eta_c * v.gamma_c);
-    EXPECT_NEAR(p.tau_e, tau_e, 1e-12 * tau_e);
-    EXPECT_NEAR(p.tau_t, tau_w, 2.0 * 2.0 / tau_w);
-    const double i_m = tau_e / k_tau + v.motor.i_m0 * p.tau_t / (p.tau_t + 2.0);
-    EXPECT_NEAR(p.i_m, i_m, 1e-9 * i_m);
+    // eq. 25 and 31: above the no-load current the shaft gives tau_e = k_tau (i_m - i_m0).
+    const double i_m = tau_w / (v.eta_c * v.gamma_c * k_tau) + v.motor.i_m0;
+    const double bias = 2.0 * 2.0 / (4.0 * i_m);  // of the smoothed positive part (smooth.h) [A]
+    EXPECT_NEAR(p.i_m, i_m, 1.01 * bias);
+    EXPECT_NEAR(p.tau_e, k_tau * (p.i_m - v.motor.i_m0), 1e-12 * p.tau_e);
+    EXPECT_NEAR(p.tau_t, tau_w, v.eta_c * v.gamma_c * k_tau * 1.01 * bias);
     const double V_mm = (v.motor.k_V0 - v.motor.sigma_m * dT) * 150.0 * v.gamma_c +
-                        (v.motor.R_m0 + v.motor.sigma_R * dT) * i_m;
+                        (v.motor.R_m0 + v.motor.sigma_R * dT) * p.i_m;
     EXPECT_NEAR(p.V_mm, V_mm, 1e-9 * V_mm);
     EXPECT_NEAR(p.e_dot, -p.V_bn * p.i_b, 1e-9);
   }
 }
 
-TEST(PowertrainTest, BrakingDrawsNoCurrent) {
+TEST(PowertrainTest, BrakingDrawsNoCurrentAndTheMotorsFrictionDrags) {
   const Vehicle v = Bx15();
   const Powertrain<double> p = ComputePowertrain(v, -800.0, 150.0, 40.0, 50.0, v.pack.e_i);
   EXPECT_LT(std::abs(p.i_m), 0.05);
-  EXPECT_NEAR(p.tau_b, -800.0, 0.01);
+  const double k_tau = v.motor.k_tau0 - v.motor.sigma_m * (50.0 - v.motor.T_0);
+  const double friction = v.eta_c * v.gamma_c * k_tau * v.motor.i_m0;  // at the wheel [N m]
+  EXPECT_NEAR(p.tau_t, -friction, 1e-3);
+  EXPECT_NEAR(p.tau_b, -800.0 + friction, 1e-3);
+}
+
+TEST(PowertrainTest, MotorCurrentIsConvexInTheWheelTorque) {
+  // One minimum of H in tau_w needs i_m (and with it P_m, i_b, the losses) convex in tau_w.
+  const Vehicle v = Bx15();
+  auto i_m = [&](double tau_w) { return ComputePowertrain(v, tau_w, 150.0, 40.0, 50.0, v.pack.e_i).i_m; };
+  for (double tau = -50.0; tau <= 50.0; tau += 0.5)
+    EXPECT_GE(i_m(tau + 0.5) - 2.0 * i_m(tau) + i_m(tau - 0.5), -1e-9) << tau;
 }
 
 TEST(BarrierTest, IsC2AtTheJoin) {

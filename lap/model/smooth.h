@@ -1,10 +1,10 @@
-// Smooth (C-infinity) positive and negative parts, replacing the kinked f+ and f- of the paper's
-// eq. 17, 18 and 25: an optimal-control solver with Newton steps needs C2 functions.
+// A smooth (C-infinity) positive part, replacing the kinked f+ of the paper's eq. 18 and 25: an
+// optimal-control solver with Newton steps needs C2 functions.
 //
-//   f+(x) = (x + sqrt(x^2 + d^2)) / 2,   f-(x) = (x - sqrt(x^2 + d^2)) / 2 = x - f+(x)
+//   f+(x) = (x + sqrt(x^2 + d^2)) / 2
 //
-// d is the smoothing width, in the unit of x. f+(x) + f-(x) = x exactly (so tau_t + tau_b = tau_w
-// holds exactly); 0 < f+(x) - max(x, 0) <= d/2, falling as d^2 / (4 |x|) for |x| >> d.
+// d is the smoothing width, in the unit of x; 0 < f+(x) - max(x, 0) <= d/2, falling as
+// d^2 / (4 |x|) for |x| >> d. f+ is convex, so a convex argument keeps it convex.
 #pragma once
 
 #include <cmath>
@@ -15,8 +15,9 @@ namespace ttz::lap {
 
 // Smoothing widths of the model, each in the unit of the smoothed quantity.
 struct Smoothing {
-  // Wheel torque split tau_w -> (tau_t, tau_b), eq. 17 [N m]; the torques in use are +-1000 N m.
-  double torque = 2.0;
+  // Motor current i_m = f+(demand + i_m0), eq. 25 [A]: the currents in use reach 1200 A; the
+  // bias at zero demand is d^2 / (4 i_m0) = 0.06 A.
+  double current = 2.0;
   // Tyre load N = f+(K_s z + K_c z_dot), eq. 18 [N]; bias d^2/(4 N) = 0.01 N at the static load.
   double load = 10.0;
   // Discriminant of the battery-current quadratic (powertrain.h) relative to V_bn^2 [1]: only
@@ -29,13 +30,6 @@ template <typename T>
 T SmoothPositive(const T& x, double d) {
   using std::sqrt;
   return (x + sqrt(x * x + d * d)) * 0.5;
-}
-
-// f-(x) of width d > 0 [unit of x]; f-(x) = x - f+(x) <= 0.
-template <typename T>
-T SmoothNegative(const T& x, double d) {
-  using std::sqrt;
-  return (x - sqrt(x * x + d * d)) * 0.5;
 }
 
 }  // namespace ttz::lap

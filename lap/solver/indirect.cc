@@ -266,8 +266,10 @@ LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
       eps = last * factor;
     }
   }
-  tr.w = w_good;
-  tr.nodes = nodes_good;
+  if (!good.empty()) {  // else keep the last iterate of the failed first solve: it shows where
+    tr.w = w_good;      // the solve got stuck
+    tr.nodes = nodes_good;
+  }
 
   LapSolution sol;
   sol.s = mesh;

@@ -1,0 +1,59 @@
+// lap.h5: the optimal lap on its arc-length mesh (schema "ttz.lap", version 1), and the part of it
+// that warm-starts another solve (`lap --init`). Every dataset, unit and attribute is documented
+// in docs/lap_h5.md.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "lap/lap_channels.h"
+#include "lap/model/state.h"
+#include "lap/model/vehicle.h"
+#include "lap/qss.h"
+#include "lap/solver/solution.h"
+
+namespace ttz::lap {
+
+inline constexpr const char* kLapSchema = "ttz.lap";
+inline constexpr int kLapSchemaVersion = 1;
+
+// What lap.h5 records about the run besides the solution.
+struct LapProvenance {
+  std::string solver;        // "indirect" or "ipopt"
+  std::string bike_yaml;     // the bike as used (after --set), BikeToYaml
+  std::string road_file;     // as given on the command line
+  std::string road_sha256;   // FileSha256 of road_file
+  double road_length = 0.0;  // [m]
+  std::string init_file;     // the --init file, "" when none
+};
+
+// Writes atomically (ttz::ArtefactWriter); also when the solve did not converge. The costates
+// are written as those of the physical states (the solver's scaled ones divided by the scales).
+void WriteLap(const std::string& path, const Vehicle& v, const LapSolution& sol,
+              const SolveSummary& summary, const LapChannels& channels, const QssLap& qss,
+              const LapProvenance& provenance);
+
+// An earlier solution, as read from its lap.h5.
+struct WarmStart {
+  std::vector<double> s;                     // [m]
+  std::vector<StateVector<double>> x;        // states (physical units)
+  std::vector<StateVector<double>> lambda;   // costates of the physical states [s per state unit]
+  std::vector<ControlVector<double>> u;      // controls (physical units)
+  double eps = 0.0;                          // barrier weight of the solution [1]
+  std::string road_sha256;
+  double road_length = 0.0;                  // [m]
+};
+
+// Throws ttz::InputError naming the file and the dataset or attribute when the file is missing,
+// is not a ttz.lap version 1 artefact, lacks a dataset or attribute, or its datasets disagree.
+WarmStart ReadLapForWarmStart(const std::string& path);
+
+// The warm start on another mesh, linearly interpolated in s (clamped to the file's range), with
+// the costates scaled as the solver takes them (lap/solver/hamiltonian.h, DefaultScales of v).
+struct SolverGuess {
+  std::vector<StateVector<double>> x, lambda;
+  std::vector<ControlVector<double>> u;
+};
+SolverGuess ResampleWarmStart(const WarmStart& w, const Vehicle& v, const std::vector<double>& mesh);
+
+}  // namespace ttz::lap

@@ -1,0 +1,85 @@
+#include "lap/lap_report.h"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace ttz::lap {
+namespace {
+
+constexpr double kKmH = 3.6;  // (km/h) / (m/s)
+
+std::string Printf(const char* format, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, format, value);
+  return text;
+}
+
+std::string JsonNumber(double x) { return std::isfinite(x) ? Printf("%.10g", x) : "null"; }
+
+std::string JsonString(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char u[8];
+      std::snprintf(u, sizeof u, "\\u%04x", c);
+      out += u;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
+std::string FormatLapTime(double seconds) {
+  if (!std::isfinite(seconds) || seconds < 0) return "-:--.-";
+  const long long tenths = std::llround(seconds * 10.0);
+  char text[32];
+  std::snprintf(text, sizeof text, "%lld:%02lld.%lld", tenths / 600, tenths % 600 / 10, tenths % 10);
+  return text;
+}
+
+std::string SolveMessage(const SolveSummary& summary) {
+  std::string why = summary.message;
+  while (!why.empty() && (why.back() == ' ' || why.back() == ';')) why.pop_back();
+  return why;
+}
+
+std::string LapReportText(const LapSolution& sol, const SolveSummary& summary, const LapFigures& f) {
+  std::ostringstream o;
+  o << "lap time       " << FormatLapTime(f.lap_time) << Printf("  (%.3f s; ", f.lap_time)
+    << Printf("extrapolated to no barrier: %.3f s)\n", sol.lap_time_extrapolated);
+  o << "average speed  " << Printf("%.1f km/h\n", f.average_speed * kKmH);
+  o << "energy used    " << Printf("%.2f MJ", f.energy_used * 1e-6)
+    << Printf(" (%.1f %% of the pack)\n", 100.0 * f.energy_fraction);
+  o << "top speed      " << Printf("%.1f km/h\n", f.top_speed * kKmH);
+  o << "converged      " << (summary.converged ? "yes" : "no (" + SolveMessage(summary) + ")") << "\n";
+  return o.str();
+}
+
+std::string LapReportJson(const LapSolution& sol, const SolveSummary& summary, const LapFigures& f) {
+  std::ostringstream o;
+  o << "{\"lap_time\": " << JsonNumber(f.lap_time)
+    << ", \"lap_time_text\": " << JsonString(FormatLapTime(f.lap_time))
+    << ", \"lap_time_extrapolated\": " << JsonNumber(sol.lap_time_extrapolated)
+    << ", \"eps\": " << JsonNumber(sol.eps)
+    << ", \"average_speed\": " << JsonNumber(f.average_speed)
+    << ", \"energy_used\": " << JsonNumber(f.energy_used)
+    << ", \"energy_fraction\": " << JsonNumber(f.energy_fraction)
+    << ", \"top_speed\": " << JsonNumber(f.top_speed)
+    << ", \"converged\": " << (summary.converged ? "true" : "false")
+    << ", \"message\": " << JsonString(SolveMessage(summary))
+    << ", \"max_residual\": " << JsonNumber(summary.max_residual)
+    << ", \"max_state_defect\": " << JsonNumber(summary.max_state_defect)
+    << ", \"iterations\": " << summary.iterations
+    << ", \"solve_seconds\": " << JsonNumber(summary.solve_seconds)
+    << ", \"nodes\": " << sol.s.size() << "}\n";
+  return o.str();
+}
+
+}  // namespace ttz::lap

@@ -1,0 +1,25 @@
+// The `lap` command's summary on stdout: a few human lines, or the same as one JSON object.
+#pragma once
+
+#include <string>
+
+#include "lap/lap_channels.h"
+#include "lap/solver/solution.h"
+
+namespace ttz::lap {
+
+// A time as minutes:seconds with tenths, "m:ss.s" (72.46 s -> "1:12.5").
+std::string FormatLapTime(double seconds);
+
+// Why the solve did not converge: the summary's message without its trailing separator ("" when
+// it converged).
+std::string SolveMessage(const SolveSummary& summary);
+
+// Lap time, average speed [km/h], energy used [MJ] and % of the pack, top speed [km/h], converged.
+std::string LapReportText(const LapSolution& sol, const SolveSummary& summary, const LapFigures& f);
+
+// The same figures as one JSON object on one line, named and in SI units as lap.h5's attributes
+// (docs/lap_h5.md); non-finite numbers are null.
+std::string LapReportJson(const LapSolution& sol, const SolveSummary& summary, const LapFigures& f);
+
+}  // namespace ttz::lap

@@ -1,0 +1,65 @@
+// Tests of lap/lap_report.h: the m:ss.s lap time, the text summary and the JSON object.
+#include "lap/lap_report.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace ttz::lap {
+namespace {
+
+TEST(LapReportTest, LapTimeAsMinutesSecondsAndTenths) {
+  EXPECT_EQ(FormatLapTime(10.946), "0:10.9");
+  EXPECT_EQ(FormatLapTime(72.46), "1:12.5");
+  EXPECT_EQ(FormatLapTime(59.96), "1:00.0");  // rounds into the next minute
+  EXPECT_EQ(FormatLapTime(1127.0), "18:47.0");
+  EXPECT_EQ(FormatLapTime(NAN), "-:--.-");
+}
+
+class LapReportFigures : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    sol.s = {0.0, 100.0, 200.0};
+    sol.lap_time_extrapolated = 10.0;
+    f.lap_time = 10.04;
+    f.average_speed = 20.0;
+    f.energy_used = 5.1e5;
+    f.energy_fraction = 0.01;
+    f.top_speed = 25.0;
+  }
+  LapSolution sol;
+  SolveSummary summary;
+  LapFigures f;
+};
+
+TEST_F(LapReportFigures, TextInHumanUnits) {
+  summary.converged = true;
+  const std::string text = LapReportText(sol, summary, f);
+  EXPECT_NE(text.find("0:10.0"), std::string::npos) << text;
+  EXPECT_NE(text.find("72.0 km/h"), std::string::npos) << text;
+  EXPECT_NE(text.find("0.51 MJ (1.0 % of the pack)"), std::string::npos) << text;
+  EXPECT_NE(text.find("90.0 km/h"), std::string::npos) << text;
+  EXPECT_NE(text.find("converged      yes"), std::string::npos) << text;
+}
+
+TEST_F(LapReportFigures, TextSaysWhyNotConverged) {
+  summary.message = "residual 0.1; ";
+  EXPECT_NE(LapReportText(sol, summary, f).find("converged      no (residual 0.1)"), std::string::npos);
+  EXPECT_EQ(SolveMessage(summary), "residual 0.1");
+}
+
+TEST_F(LapReportFigures, JsonInSiUnitsWithNullForNonFinite) {
+  summary.max_residual = HUGE_VAL;
+  summary.message = "say \"why\"";
+  const std::string json = LapReportJson(sol, summary, f);
+  EXPECT_EQ(json.front(), '{');
+  EXPECT_EQ(json.substr(json.size() - 2), "}\n");
+  EXPECT_NE(json.find("\"lap_time\": 10.04,"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"max_residual\": null"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"message\": \"say \\\"why\\\"\""), std::string::npos) << json;
+  EXPECT_NE(json.find("\"converged\": false"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"nodes\": 3}"), std::string::npos) << json;
+}
+
+}  // namespace
+}  // namespace ttz::lap

@@ -1,0 +1,172 @@
+// lap: the minimum-lap-time manoeuvre of the electric motorcycle (paper eq. 9-39) on a road.h5,
+// written to lap.h5 (docs/lap_h5.md) with a short summary on stdout.
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "common/artefact.h"
+#include "common/error.h"
+#include "common/log.h"
+#include "common/road_artefact.h"
+#include "lap/bike.h"
+#include "lap/lap_artefact.h"
+#include "lap/lap_channels.h"
+#include "lap/lap_report.h"
+#include "lap/qss.h"
+#include "lap/road_track.h"
+#include "lap/solver/indirect.h"
+#include "lap/solver/ipopt_direct.h"
+
+namespace {
+
+using namespace ttz::lap;
+
+struct Arguments {
+  std::string road, bike, output, init, solver = "indirect";
+  std::vector<std::string> overrides;
+  double ds_m = 1.0;
+  int max_iterations = 0;  // 0: the solver's default
+  bool json = false, quiet = false, verbose = false;
+};
+
+void DefineOptions(CLI::App& app, Arguments& a) {
+  app.add_option("ROAD", a.road, "the road (road.h5 from road_fit, docs/road_h5.md)")->required();
+  app.add_option("BIKE", a.bike, "the motorcycle (bike.yaml, docs/bike.md)")->required();
+  app.add_option("-o,--output", a.output, "lap artefact to write (HDF5, see docs/lap_h5.md)")->required();
+  app.add_option("--set", a.overrides, "override a bike.yaml value: section.key=value (repeatable)");
+  app.add_option("--ds", a.ds_m, "mesh spacing along the road [m]")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--init", a.init, "warm start from an earlier lap.h5 of this road (states, costates, barrier weight)");
+  app.add_option("--solver", a.solver, "indirect (Ceres, the default) or ipopt (the direct-transcription oracle)")
+      ->check(CLI::IsMember({"indirect", "ipopt"}))
+      ->capture_default_str();
+  app.add_option("--max-iterations", a.max_iterations,
+                 "iteration limit: Ceres iterations per continuation step (indirect, default " +
+                     std::to_string(IndirectOptions{}.max_iterations) + ") or Ipopt iterations (ipopt, default " +
+                     std::to_string(IpoptOptions{}.max_iterations) + ")")
+      ->check(CLI::PositiveNumber);
+  app.add_flag("--json", a.json, "print the summary as one JSON object");
+  auto* quiet = app.add_flag("-q,--quiet", a.quiet, "print warnings and errors only");
+  app.add_flag("-v,--verbose", a.verbose, "print the optimiser's iterations (to stdout unless --json)")->excludes(quiet);
+}
+
+// Eq. 39a needs room between the borders: r_w / 2 - margin > 0 all along the road.
+void CheckRoadFitsBike(const ttz::RoadArtefact& road, const std::string& road_file, const BikeParams& bike) {
+  const double margin = bike.limits.border_margin;
+  for (size_t i = 0; i < road.s.size(); ++i)
+    if (0.5 * road.width[i] - margin <= 0.0) {
+      std::ostringstream o;
+      o << "road width " << road.width[i] << " m at s = " << road.s[i]
+        << " m leaves the bike no room: limits.border_margin_m = " << margin << " m needs a width above "
+        << 2.0 * margin << " m";
+      throw ttz::InputError(road_file, o.str());
+    }
+}
+
+// Checked before the solve, so a typo in -o does not cost the solve.
+void CheckOutputFolder(const std::string& output) {
+  const std::filesystem::path folder = std::filesystem::absolute(output).parent_path();
+  if (!std::filesystem::is_directory(folder))
+    throw ttz::InputError(output, "cannot be written (the folder " + folder.string() + " does not exist)");
+}
+
+// The initial guess from --init: the earlier solution on this mesh, with this bike's fixed
+// initial state at the first node. Continuation starts at the file's barrier weight, or one step
+// above the last weight (eps_end / eps_factor) when the file's solve had finished or had no
+// barrier (Ipopt), so that there are two steps to extrapolate the lap time to eps = 0 from.
+SolverGuess WarmStartGuess(const Arguments& a, const std::string& road_sha256, double road_length,
+                           const Vehicle& v, const std::vector<double>& mesh, const QssLap& qss,
+                           IndirectOptions* options) {
+  const WarmStart ws = ReadLapForWarmStart(a.init);
+  if (ws.road_sha256 != road_sha256 && std::abs(ws.road_length - road_length) > 1.0) {
+    std::ostringstream o;
+    o << "is a lap of another road: its road_sha256 differs from " << a.road << "'s and its road_length "
+      << ws.road_length << " m differs from " << road_length << " m by more than 1 m";
+    throw ttz::InputError(a.init, o.str());
+  }
+  SolverGuess g = ResampleWarmStart(ws, v, mesh);
+  g.x.front() = qss.x.front();
+  options->eps_start = ws.eps > options->eps_end ? ws.eps : options->eps_end / options->eps_factor;
+  return g;
+}
+
+// The one place that dispatches on --solver.
+LapSolution Solve(const Arguments& a, const Vehicle& v, const RoadTrack& track, const std::vector<double>& mesh,
+                  const QssLap& qss, const SolverGuess& guess, const IndirectOptions& options,
+                  SolveSummary* summary) {
+  std::ostringstream o;
+  o << a.road << ": " << mesh.size() << " nodes over " << track.Length() << " m, quasi-steady lap "
+    << qss.lap_time << " s; solving with " << a.solver;
+  ttz::Log(ttz::LogKind::kInfo, o.str());
+  if (a.solver == "ipopt") {
+    IpoptOptions ipopt;
+    if (a.max_iterations > 0) ipopt.max_iterations = a.max_iterations;
+    ipopt.print_level = options.verbose ? 5 : 0;
+    return SolveDirectIpopt(v, track, mesh, guess.x, guess.u, ipopt, summary);
+  }
+  return SolveIndirect(v, track, mesh, guess.x, guess.lambda, guess.u, options, summary);
+}
+
+int Run(const Arguments& a) {
+  CheckOutputFolder(a.output);
+  const ttz::RoadArtefact road = ttz::ReadRoad(a.road);
+  const BikeParams bike = LoadBike(a.bike, a.overrides);
+  CheckRoadFitsBike(road, a.road, bike);
+  const Vehicle v = MakeVehicle(bike);
+  const RoadTrack track(road);
+  const std::string road_sha256 = ttz::FileSha256(a.road);
+  const std::vector<double> mesh = UniformMesh(track.Length(), a.ds_m);
+  const QssLap qss = ComputeQss(v, track, mesh);
+  IndirectOptions options;
+  if (a.max_iterations > 0) options.max_iterations = a.max_iterations;
+  options.verbose = a.verbose && !a.json;  // Ceres and Ipopt print their iterations on stdout
+  const SolverGuess guess = a.init.empty()
+                                ? SolverGuess{qss.x, {}, qss.u}
+                                : WarmStartGuess(a, road_sha256, track.Length(), v, mesh, qss, &options);
+  SolveSummary summary;
+  const LapSolution sol = Solve(a, v, track, mesh, qss, guess, options, &summary);
+  const LapChannels channels = ComputeLapChannels(v, track, sol);
+  WriteLap(a.output, v, sol, summary, channels, qss,
+           {a.solver, BikeToYaml(bike), a.road, road_sha256, track.Length(), a.init});
+  std::cout << (a.json ? LapReportJson(sol, summary, channels.figures)
+                       : LapReportText(sol, summary, channels.figures))
+            << std::flush;
+  if (!summary.converged) {
+    ttz::Log(ttz::LogKind::kError, "the solve did not converge (" + SolveMessage(summary) + "); " + a.output +
+                                       " is written with converged = false");
+    return ttz::kExitNotConverged;
+  }
+  return ttz::kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ttz::SetLogTool("lap");
+  CLI::App app{"lap: minimum-lap-time optimal control of an electric motorcycle on a road (paper eq. 9-39)"};
+  Arguments arguments;
+  DefineOptions(app, arguments);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    ttz::Log(ttz::LogKind::kError, std::string(e.what()) + " (see lap --help)");
+    return ttz::kExitBadInput;
+  }
+  if (arguments.quiet) ttz::SetLogLevel(1);
+  if (arguments.verbose) ttz::SetLogLevel(3);
+  try {
+    return Run(arguments);
+  } catch (const ttz::InputError& e) {
+    ttz::Log(ttz::LogKind::kError, e.what());
+    return ttz::kExitBadInput;
+  } catch (const std::exception& e) {
+    ttz::Log(ttz::LogKind::kError, e.what());
+    return ttz::kExitOther;
+  }
+}

@@ -1,0 +1,53 @@
+// One mesh node of the direct transcription (lap/solver/ipopt_direct.h): at the node's scaled
+// states and controls z = (x~, u~) = (x / S, u / S_u), the quantities the transcription is built
+// from,
+//
+//   y(z) = ( x~' = x' / S  (eq. 36-37, lap/model/dynamics.h),
+//            1 / sdot      (the time per metre of the objective, eq. 37-38),
+//            g_j(x, u)     (eq. 39a-g, the voltage limits and the brake bound, constraints.h) ),
+//
+// their Jacobian dy/dz by Jets, and the Hessian of any weighted sum w^T y by nested Jets (the
+// node's share of the Hessian of the Lagrangian).
+#pragma once
+
+#include <Eigen/Core>
+
+#include "lap/model/constraints.h"
+#include "lap/model/road_point.h"
+#include "lap/model/vehicle.h"
+#include "lap/solver/hamiltonian.h"
+
+namespace ttz::lap {
+
+inline constexpr int kNodeVars = kNumStates + kNumControls;  // z = (x~, u~)
+
+// Positions in y: x~' first, then 1 / sdot, then the constraints.
+inline constexpr int kOutDxDs = 0;
+inline constexpr int kOutTime = kNumStates;
+inline constexpr int kOutG = kNumStates + 1;
+inline constexpr int kNumNodeOutputs = kOutG + kNumConstraints;
+
+using NodePoint = Eigen::Matrix<double, kNodeVars, 1>;
+using NodeOutputs = Eigen::Matrix<double, kNumNodeOutputs, 1>;
+using NodeJacobian = Eigen::Matrix<double, kNumNodeOutputs, kNodeVars, Eigen::RowMajor>;
+using NodeHessian = Eigen::Matrix<double, kNodeVars, kNodeVars>;
+
+// The model's data at one node.
+struct DirectNode {
+  const Vehicle* v;
+  Scales sc;
+  RoadPoint road;
+};
+
+// y(z). False where the model is undefined (V <= 0.1 m/s, 1 - n kappa <= 0.05, sdot <= 0 or a
+// non-finite value).
+bool NodeValues(const DirectNode& node, const NodePoint& z, NodeOutputs* y);
+
+// y(z) and dy/dz.
+bool NodeDerivatives(const DirectNode& node, const NodePoint& z, NodeOutputs* y, NodeJacobian* J);
+
+// d2(w^T y)/dz2 (symmetric, both triangles filled).
+bool NodeWeightedHessian(const DirectNode& node, const NodePoint& z, const NodeOutputs& w,
+                         NodeHessian* H);
+
+}  // namespace ttz::lap

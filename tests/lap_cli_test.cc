@@ -1,0 +1,277 @@
+// The `lap` command on synthetic roads the test writes itself: a straight level road solves and
+// gives a complete lap.h5 and summary, and warm-starts a second solve; every bad input gives exit
+// code 2, one line on stderr naming the file or key, and no lap.h5 (nor a temporary file).
+#include <gtest/gtest.h>
+#include <hdf5.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include "common/artefact.h"
+#include "common/road_artefact.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kLap = std::string(TTZ_BINARY_DIR) + "/bin/lap";
+const std::string kBike = std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml";
+
+struct CliRun {
+  int exit_code;
+  std::string stdout_text, stderr_text;
+};
+
+std::string ReadText(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// A straight level road of `length` metres sampled every metre, `width(s)` wide.
+ttz::RoadArtefact StraightRoad(double length, double (*width)(double) = [](double) { return 8.0; }) {
+  ttz::RoadArtefact r;
+  for (int i = 0; i <= static_cast<int>(length); ++i) {
+    const double s = i, w = width(s);
+    r.s.push_back(s);
+    r.x.push_back(s);
+    r.left_x.push_back(s);
+    r.right_x.push_back(s);
+    r.left_y.push_back(0.5 * w);
+    r.right_y.push_back(-0.5 * w);
+    r.width.push_back(w);
+    for (auto* f : {&r.y, &r.z, &r.theta, &r.sigma, &r.kappa, &r.nu, &r.tau}) f->push_back(0.0);
+  }
+  r.length_m = length;
+  r.ds_m = 1.0;
+  r.input_format = "synthetic";
+  r.tool_version = "test";
+  r.converged = true;
+  return r;
+}
+
+// Every dataset of an HDF5 file, by name, with whether it has a `units` attribute.
+std::vector<std::pair<std::string, bool>> DatasetsAndUnits(const std::string& path) {
+  std::vector<std::pair<std::string, bool>> found;
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  EXPECT_GE(file, 0) << path;
+  auto visit = [](hid_t object, const char* name, const H5O_info_t* info, void* out) -> herr_t {
+    if (info->type == H5O_TYPE_DATASET)
+      static_cast<std::vector<std::pair<std::string, bool>>*>(out)->emplace_back(
+          name, H5Aexists_by_name(object, name, "units", H5P_DEFAULT) > 0);
+    return 0;
+  };
+  H5Ovisit2(file, H5_INDEX_NAME, H5_ITER_NATIVE, visit, &found, H5O_INFO_BASIC);
+  H5Fclose(file);
+  return found;
+}
+
+class LapCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::path(::testing::TempDir()) /
+           ("lap_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string File(const std::string& name, const std::string& text) const {
+    std::ofstream(Path(name)) << text;
+    return Path(name);
+  }
+  std::string Road(const std::string& name, const ttz::RoadArtefact& road) const {
+    ttz::WriteRoad(Path(name), road);
+    return Path(name);
+  }
+  // bx15.yaml with `line` replaced by `replacement` (the line must exist).
+  std::string Bike(const std::string& line, const std::string& replacement) const {
+    std::string text = ReadText(kBike);
+    const size_t at = text.find(line);
+    EXPECT_NE(at, std::string::npos) << line;
+    return File("bike.yaml", text.replace(at, line.size(), replacement));
+  }
+
+  CliRun Lap(const std::string& arguments, const std::string& output = "lap.h5") const {
+    const std::string out = Path("stdout.txt"), err = Path("stderr.txt");
+    const int status = std::system((kLap + " " + arguments + " -o " + Path(output) + " > " + out + " 2> " + err).c_str());
+    CliRun run{WEXITSTATUS(status), ReadText(out), ReadText(err)};
+    fs::remove(out);
+    fs::remove(err);
+    return run;
+  }
+
+  void ExpectBadInput(const CliRun& run, const std::string& must_contain, const std::string& output = "lap.h5") const {
+    EXPECT_EQ(run.exit_code, 2) << run.stderr_text;
+    EXPECT_EQ(std::count(run.stderr_text.begin(), run.stderr_text.end(), '\n'), 1) << run.stderr_text;
+    EXPECT_NE(run.stderr_text.find(must_contain), std::string::npos)
+        << "stderr: " << run.stderr_text << "expected to contain: " << must_contain;
+    EXPECT_FALSE(fs::exists(Path(output)));
+    for (const auto& entry : fs::directory_iterator(dir_))
+      EXPECT_EQ(entry.path().string().find(".tmp."), std::string::npos) << entry.path();
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(LapCli, AStraightRoadSolvesWritesLapH5AndWarmStartsTheNextSolve) {
+  const std::string road = Road("straight200.h5", StraightRoad(200.0));
+  const CliRun run = Lap(road + " " + kBike + " --ds 2 -q");
+  ASSERT_EQ(run.exit_code, 0) << run.stderr_text << run.stdout_text;
+  EXPECT_TRUE(std::regex_search(run.stdout_text, std::regex("lap time +0:[01][0-9]\\.[0-9] ")))
+      << run.stdout_text;
+  EXPECT_NE(run.stdout_text.find("converged      yes"), std::string::npos) << run.stdout_text;
+
+  const std::string lap = Path("lap.h5");
+  const ttz::ArtefactReader r(lap, "ttz.lap", 1);
+  EXPECT_TRUE(r.ReadBoolAttribute("converged"));
+  EXPECT_EQ(r.ReadStringAttribute("road_sha256"), ttz::FileSha256(road));
+  EXPECT_EQ(r.ReadIntAttribute("nodes"), 101);
+  const std::vector<double> t = r.ReadVector("t", "s");
+  ASSERT_EQ(t.size(), 101u);
+  EXPECT_EQ(t.front(), 0.0);
+  for (size_t k = 1; k < t.size(); ++k) EXPECT_GT(t[k], t[k - 1]) << "node " << k;
+  EXPECT_NEAR(r.ReadDoubleAttribute("lap_time"), t.back(), 1e-12);
+  EXPECT_EQ(r.ReadVector("state/V", "m/s").size(), 101u);
+  EXPECT_EQ(r.ReadVector("qss/V", "m/s").size(), 101u);
+  const auto datasets = DatasetsAndUnits(lap);
+  EXPECT_GT(datasets.size(), 60u);
+  for (const auto& [name, has_units] : datasets) EXPECT_TRUE(has_units) << name;
+
+  // Warm start on a coarser mesh of the same road, summary as JSON.
+  const CliRun warm = Lap(road + " " + kBike + " --ds 4 -q --json --init " + lap, "warm.h5");
+  ASSERT_EQ(warm.exit_code, 0) << warm.stderr_text << warm.stdout_text;
+  EXPECT_EQ(warm.stdout_text.front(), '{') << warm.stdout_text;
+  EXPECT_EQ(std::count(warm.stdout_text.begin(), warm.stdout_text.end(), '\n'), 1) << warm.stdout_text;
+  EXPECT_NE(warm.stdout_text.find("\"lap_time\": "), std::string::npos) << warm.stdout_text;
+  EXPECT_NE(warm.stdout_text.find("\"converged\": true"), std::string::npos) << warm.stdout_text;
+  const ttz::ArtefactReader w(Path("warm.h5"), "ttz.lap", 1);
+  EXPECT_EQ(w.ReadStringAttribute("init_file"), lap);
+  EXPECT_NEAR(w.ReadDoubleAttribute("lap_time"), r.ReadDoubleAttribute("lap_time"), 0.01 * t.back());
+
+  // The same lap as the warm start of another (longer) road is refused.
+  const std::string other = Road("straight300.h5", StraightRoad(300.0));
+  ExpectBadInput(Lap(other + " " + kBike + " --ds 4 --init " + lap, "other.h5"),
+                 lap + ": is a lap of another road", "other.h5");
+}
+
+TEST_F(LapCli, TheIpoptOracleSolvesAndWarmStartsTheIndirectSolver) {
+  const std::string road = Road("straight100.h5", StraightRoad(100.0));
+  const CliRun ipopt = Lap(road + " " + kBike + " --ds 4 -q --solver ipopt", "ipopt.h5");
+  ASSERT_EQ(ipopt.exit_code, 0) << ipopt.stderr_text << ipopt.stdout_text;
+  const ttz::ArtefactReader r(Path("ipopt.h5"), "ttz.lap", 1);
+  EXPECT_EQ(r.ReadStringAttribute("solver"), "ipopt");
+  EXPECT_EQ(r.ReadDoubleAttribute("eps"), 0.0);
+  EXPECT_TRUE(r.ReadBoolAttribute("converged"));
+
+  const CliRun warm = Lap(road + " " + kBike + " --ds 4 -q --init " + Path("ipopt.h5"), "warm.h5");
+  ASSERT_EQ(warm.exit_code, 0) << warm.stderr_text << warm.stdout_text;
+  const ttz::ArtefactReader w(Path("warm.h5"), "ttz.lap", 1);
+  EXPECT_EQ(w.ReadStringAttribute("solver"), "indirect");
+  EXPECT_NEAR(w.ReadDoubleAttribute("lap_time_extrapolated"), r.ReadDoubleAttribute("lap_time"),
+              1e-3 * r.ReadDoubleAttribute("lap_time"));
+}
+
+TEST_F(LapCli, ASolveThatDoesNotConvergeExits3AndStillWritesLapH5) {
+  const std::string road = Road("straight100.h5", StraightRoad(100.0));
+  const CliRun run = Lap(road + " " + kBike + " --ds 4 -q --max-iterations 2");
+  EXPECT_EQ(run.exit_code, 3) << run.stderr_text;
+  EXPECT_EQ(std::count(run.stderr_text.begin(), run.stderr_text.end(), '\n'), 1) << run.stderr_text;
+  EXPECT_NE(run.stderr_text.find("the solve did not converge (continuation failed at eps 0.1"), std::string::npos)
+      << run.stderr_text;
+  EXPECT_NE(run.stdout_text.find("converged      no ("), std::string::npos) << run.stdout_text;
+  const ttz::ArtefactReader r(Path("lap.h5"), "ttz.lap", 1);
+  EXPECT_FALSE(r.ReadBoolAttribute("converged"));
+  EXPECT_NE(r.ReadStringAttribute("message").find("continuation failed"), std::string::npos);
+}
+
+TEST_F(LapCli, RoadMissing) {
+  ExpectBadInput(Lap(Path("none.h5") + " " + kBike), Path("none.h5") + ": file not found");
+}
+
+TEST_F(LapCli, RoadOfAnotherSchema) {
+  ExpectBadInput(Lap(kBike + " " + kBike), kBike + ": not an HDF5 file (a ttz.road artefact expected)");
+  {
+    ttz::ArtefactWriter w(Path("a_lap.h5"), "ttz.lap", 1);
+    w.Commit();
+  }
+  ExpectBadInput(Lap(Path("a_lap.h5") + " " + kBike),
+                 Path("a_lap.h5") + ": schema 'ttz.lap' found, 'ttz.road' expected");
+}
+
+TEST_F(LapCli, RoadOfAnotherSchemaVersion) {
+  {
+    ttz::ArtefactWriter w(Path("road.h5"), "ttz.road", 2);
+    w.Commit();
+  }
+  ExpectBadInput(Lap(Path("road.h5") + " " + kBike), Path("road.h5") + ": schema_version 2 found, 1 expected");
+}
+
+TEST_F(LapCli, RoadWithoutCurvature) {
+  const ttz::RoadArtefact road = StraightRoad(100.0);
+  {
+    ttz::ArtefactWriter w(Path("road.h5"), "ttz.road", 1);
+    for (const auto& [name, values, units] :
+         {std::tuple{"s", &road.s, "m"}, {"x", &road.x, "m"}, {"y", &road.y, "m"}, {"z", &road.z, "m"},
+          {"theta", &road.theta, "rad"}, {"sigma", &road.sigma, "rad"}, {"width", &road.width, "m"}})
+      w.WriteVector(name, *values, units, "test");
+    w.Commit();
+  }
+  ExpectBadInput(Lap(Path("road.h5") + " " + kBike), Path("road.h5") + ": dataset 'kappa' is missing");
+}
+
+TEST_F(LapCli, BikeWithAnUnknownKey) {
+  const std::string road = Road("road.h5", StraightRoad(100.0));
+  const std::string bike = Bike("chassis:\n", "chassis:\n  wing_area_m2: 1\n");
+  ExpectBadInput(Lap(road + " " + bike), bike + ":7: key 'chassis.wing_area_m2': unknown key");
+}
+
+TEST_F(LapCli, BikeWithAMissingKey) {
+  const std::string road = Road("road.h5", StraightRoad(100.0));
+  const std::string text = ReadText(kBike);
+  const size_t at = text.find("  cog_height_m:");
+  const std::string bike = Bike(text.substr(at, text.find('\n', at) + 1 - at), "");
+  ExpectBadInput(Lap(road + " " + bike), "key 'chassis.cog_height_m': missing key");
+}
+
+TEST_F(LapCli, EfficiencyAboveOneBySet) {
+  const std::string road = Road("road.h5", StraightRoad(100.0));
+  ExpectBadInput(Lap(road + " " + kBike + " --set controller.efficiency=1.2"),
+                 "override 'controller.efficiency=1.2': key 'controller.efficiency': non-physical value 1.2");
+}
+
+TEST_F(LapCli, InitialSpeedZero) {
+  const std::string road = Road("road.h5", StraightRoad(100.0));
+  ExpectBadInput(Lap(road + " " + kBike + " --set initial.speed_m_per_s=0"),
+                 "key 'initial.speed_m_per_s': non-physical value 0");
+}
+
+TEST_F(LapCli, RoadNarrowerThanTheBikeCanUse) {
+  // 0.9 m wide from s = 100 to 110 m; border_margin_m = 0.5 needs more than 1 m.
+  const std::string road = Road("narrow.h5", StraightRoad(200.0, [](double s) {
+    return s >= 100.0 && s <= 110.0 ? 0.9 : 8.0;
+  }));
+  ExpectBadInput(Lap(road + " " + kBike), road + ": road width 0.9 m at s = 100 m leaves the bike no room");
+}
+
+TEST_F(LapCli, InitFromARoadArtefact) {
+  const std::string road = Road("road.h5", StraightRoad(100.0));
+  ExpectBadInput(Lap(road + " " + kBike + " --init " + road), road + ": schema 'ttz.road' found, 'ttz.lap' expected");
+}
+
+TEST_F(LapCli, UnwritableOutputFolder) {
+  const std::string road = Road("road.h5", StraightRoad(100.0));
+  const CliRun run = Lap(road + " " + kBike, "missing-folder/lap.h5");
+  ExpectBadInput(run, "missing-folder/lap.h5: cannot be written", "missing-folder/lap.h5");
+}
+
+TEST_F(LapCli, BadOptions) {
+  ExpectBadInput(Lap("road.h5 bike.yaml --ds -1"), "--ds");
+  ExpectBadInput(Lap("road.h5 bike.yaml --solver newton"), "--solver");
+}
+
+}  // namespace
