@@ -141,6 +141,20 @@ void WriteAttributes(ArtefactWriter& w, const LapSolution& sol, const SolveSumma
   w.WriteAttribute("tool_version", TTZ_VERSION);
 }
 
+// The re-simulation check (lap/resimulate.h).
+void WriteResimAttributes(ArtefactWriter& w, const ResimReport& r) {
+  w.WriteAttribute("resim_lap_time", r.lap_time);
+  w.WriteAttribute("resim_lap_time_difference", r.lap_time_difference);
+  w.WriteAttribute("resim_lap_time_relative", r.lap_time_relative);
+  w.WriteAttribute("resim_max_state_difference", r.max_state_difference_all);
+  for (int i = 0; i < kNumStates; ++i)
+    w.WriteAttribute(std::string("resim_max_state_difference_") + kStateNames[i], r.max_state_difference[i]);
+  w.WriteAttribute("resim_worst_state", kStateNames[r.worst_state]);
+  w.WriteAttribute("resim_worst_s", r.worst_s);
+  w.WriteBoolAttribute("resim_passed", r.passed);
+  w.WriteAttribute("resim_message", r.message);
+}
+
 // Reads the per-node rows of a group ("state", "costate", "control") into `rows`.
 template <size_t N>
 void ReadRows(const ArtefactReader& r, const std::string& group, const std::array<const char*, N>& names,
@@ -171,12 +185,13 @@ std::array<double, N> Interpolate(const std::vector<double>& s, const std::vecto
 
 void WriteLap(const std::string& path, const Vehicle& v, const LapSolution& sol,
               const SolveSummary& summary, const LapChannels& channels, const QssLap& qss,
-              const LapProvenance& provenance) {
+              const ResimReport& resim, const LapProvenance& provenance) {
   ArtefactWriter w(path, kLapSchema, kLapSchemaVersion);
   WriteAlongS(w, v, sol, channels);
   WriteQss(w, qss);
   WriteContinuation(w, summary);
   WriteAttributes(w, sol, summary, channels, qss, provenance);
+  WriteResimAttributes(w, resim);
   w.Commit();
 }
 

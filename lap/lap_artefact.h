@@ -10,6 +10,7 @@
 #include "lap/model/state.h"
 #include "lap/model/vehicle.h"
 #include "lap/qss.h"
+#include "lap/resimulate.h"
 #include "lap/solver/solution.h"
 
 namespace ttz::lap {
@@ -31,7 +32,7 @@ struct LapProvenance {
 // are written as those of the physical states (the solver's scaled ones divided by the scales).
 void WriteLap(const std::string& path, const Vehicle& v, const LapSolution& sol,
               const SolveSummary& summary, const LapChannels& channels, const QssLap& qss,
-              const LapProvenance& provenance);
+              const ResimReport& resim, const LapProvenance& provenance);
 
 // An earlier solution, as read from its lap.h5.
 struct WarmStart {

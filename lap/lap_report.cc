@@ -34,6 +34,13 @@ std::string JsonString(const std::string& s) {
   return out + "\"";
 }
 
+// "lap time differs by X %, states by Y %", or why there is no re-simulated lap time.
+std::string ResimLine(const ResimReport& r) {
+  if (!std::isfinite(r.lap_time)) return "no lap time (" + r.message + ")";
+  return Printf("lap time differs by %.3g %%, ", 100.0 * r.lap_time_relative) +
+         Printf("states by %.3g %%", 100.0 * r.max_state_difference_all) + (r.passed ? "" : " (failed)");
+}
+
 }  // namespace
 
 std::string FormatLapTime(double seconds) {
@@ -50,7 +57,8 @@ std::string SolveMessage(const SolveSummary& summary) {
   return why;
 }
 
-std::string LapReportText(const LapSolution& sol, const SolveSummary& summary, const LapFigures& f) {
+std::string LapReportText(const LapSolution& sol, const SolveSummary& summary, const LapFigures& f,
+                          const ResimReport& resim) {
   std::ostringstream o;
   o << "lap time       " << FormatLapTime(f.lap_time) << Printf("  (%.3f s; ", f.lap_time)
     << Printf("extrapolated to no barrier: %.3f s)\n", sol.lap_time_extrapolated);
@@ -58,11 +66,13 @@ std::string LapReportText(const LapSolution& sol, const SolveSummary& summary, c
   o << "energy used    " << Printf("%.2f MJ", f.energy_used * 1e-6)
     << Printf(" (%.1f %% of the pack)\n", 100.0 * f.energy_fraction);
   o << "top speed      " << Printf("%.1f km/h\n", f.top_speed * kKmH);
+  o << "re-simulation  " << ResimLine(resim) << "\n";
   o << "converged      " << (summary.converged ? "yes" : "no (" + SolveMessage(summary) + ")") << "\n";
   return o.str();
 }
 
-std::string LapReportJson(const LapSolution& sol, const SolveSummary& summary, const LapFigures& f) {
+std::string LapReportJson(const LapSolution& sol, const SolveSummary& summary, const LapFigures& f,
+                          const ResimReport& resim) {
   std::ostringstream o;
   o << "{\"lap_time\": " << JsonNumber(f.lap_time)
     << ", \"lap_time_text\": " << JsonString(FormatLapTime(f.lap_time))
@@ -76,6 +86,11 @@ std::string LapReportJson(const LapSolution& sol, const SolveSummary& summary, c
     << ", \"message\": " << JsonString(SolveMessage(summary))
     << ", \"max_residual\": " << JsonNumber(summary.max_residual)
     << ", \"max_state_defect\": " << JsonNumber(summary.max_state_defect)
+    << ", \"resim_lap_time\": " << JsonNumber(resim.lap_time)
+    << ", \"resim_lap_time_difference\": " << JsonNumber(resim.lap_time_difference)
+    << ", \"resim_lap_time_relative\": " << JsonNumber(resim.lap_time_relative)
+    << ", \"resim_max_state_difference\": " << JsonNumber(resim.max_state_difference_all)
+    << ", \"resim_passed\": " << (resim.passed ? "true" : "false")
     << ", \"iterations\": " << summary.iterations
     << ", \"solve_seconds\": " << JsonNumber(summary.solve_seconds)
     << ", \"nodes\": " << sol.s.size() << "}\n";

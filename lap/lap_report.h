@@ -4,6 +4,7 @@
 #include <string>
 
 #include "lap/lap_channels.h"
+#include "lap/resimulate.h"
 #include "lap/solver/solution.h"
 
 namespace ttz::lap {
@@ -15,11 +16,14 @@ std::string FormatLapTime(double seconds);
 // it converged).
 std::string SolveMessage(const SolveSummary& summary);
 
-// Lap time, average speed [km/h], energy used [MJ] and % of the pack, top speed [km/h], converged.
-std::string LapReportText(const LapSolution& sol, const SolveSummary& summary, const LapFigures& f);
+// Lap time, average speed [km/h], energy used [MJ] and % of the pack, top speed [km/h], the
+// re-simulation's lap-time and largest state difference [%], converged.
+std::string LapReportText(const LapSolution& sol, const SolveSummary& summary, const LapFigures& f,
+                          const ResimReport& resim);
 
 // The same figures as one JSON object on one line, named and in SI units as lap.h5's attributes
 // (docs/lap_h5.md); non-finite numbers are null.
-std::string LapReportJson(const LapSolution& sol, const SolveSummary& summary, const LapFigures& f);
+std::string LapReportJson(const LapSolution& sol, const SolveSummary& summary, const LapFigures& f,
+                          const ResimReport& resim);
 
 }  // namespace ttz::lap

@@ -26,38 +26,56 @@ class LapReportFigures : public ::testing::Test {
     f.energy_used = 5.1e5;
     f.energy_fraction = 0.01;
     f.top_speed = 25.0;
+    resim.passed = true;
+    resim.lap_time = 10.039;
+    resim.lap_time_difference = -0.001;
+    resim.lap_time_relative = 1e-4;
+    resim.max_state_difference_all = 2.5e-4;
   }
   LapSolution sol;
   SolveSummary summary;
   LapFigures f;
+  ResimReport resim;
 };
 
 TEST_F(LapReportFigures, TextInHumanUnits) {
   summary.converged = true;
-  const std::string text = LapReportText(sol, summary, f);
+  const std::string text = LapReportText(sol, summary, f, resim);
   EXPECT_NE(text.find("0:10.0"), std::string::npos) << text;
   EXPECT_NE(text.find("72.0 km/h"), std::string::npos) << text;
   EXPECT_NE(text.find("0.51 MJ (1.0 % of the pack)"), std::string::npos) << text;
   EXPECT_NE(text.find("90.0 km/h"), std::string::npos) << text;
+  EXPECT_NE(text.find("re-simulation  lap time differs by 0.01 %, states by 0.025 %\n"), std::string::npos) << text;
   EXPECT_NE(text.find("converged      yes"), std::string::npos) << text;
+}
+
+TEST_F(LapReportFigures, TextSaysWhenTheReSimulationFailedOrDiverged) {
+  resim.passed = false;
+  EXPECT_NE(LapReportText(sol, summary, f, resim).find("states by 0.025 % (failed)\n"), std::string::npos);
+  resim.lap_time = NAN;
+  resim.message = "re-simulation diverged: phi off by 120 % of its scale at s = 30 m";
+  EXPECT_NE(LapReportText(sol, summary, f, resim).find("re-simulation  no lap time (" + resim.message + ")\n"),
+            std::string::npos);
 }
 
 TEST_F(LapReportFigures, TextSaysWhyNotConverged) {
   summary.message = "residual 0.1; ";
-  EXPECT_NE(LapReportText(sol, summary, f).find("converged      no (residual 0.1)"), std::string::npos);
+  EXPECT_NE(LapReportText(sol, summary, f, resim).find("converged      no (residual 0.1)"), std::string::npos);
   EXPECT_EQ(SolveMessage(summary), "residual 0.1");
 }
 
 TEST_F(LapReportFigures, JsonInSiUnitsWithNullForNonFinite) {
   summary.max_residual = HUGE_VAL;
   summary.message = "say \"why\"";
-  const std::string json = LapReportJson(sol, summary, f);
+  const std::string json = LapReportJson(sol, summary, f, resim);
   EXPECT_EQ(json.front(), '{');
   EXPECT_EQ(json.substr(json.size() - 2), "}\n");
   EXPECT_NE(json.find("\"lap_time\": 10.04,"), std::string::npos) << json;
   EXPECT_NE(json.find("\"max_residual\": null"), std::string::npos) << json;
   EXPECT_NE(json.find("\"message\": \"say \\\"why\\\"\""), std::string::npos) << json;
   EXPECT_NE(json.find("\"converged\": false"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"resim_lap_time_relative\": 0.0001,"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"resim_passed\": true"), std::string::npos) << json;
   EXPECT_NE(json.find("\"nodes\": 3}"), std::string::npos) << json;
 }
 

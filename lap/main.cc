@@ -16,6 +16,7 @@
 #include "lap/lap_channels.h"
 #include "lap/lap_report.h"
 #include "lap/qss.h"
+#include "lap/resimulate.h"
 #include "lap/road_track.h"
 #include "lap/solver/indirect.h"
 #include "lap/solver/ipopt_direct.h"
@@ -111,6 +112,15 @@ LapSolution Solve(const Arguments& a, const Vehicle& v, const RoadTrack& track, 
   return SolveIndirect(v, track, mesh, guess.x, guess.lambda, guess.u, options, summary);
 }
 
+// Issue 3: a converged solve whose re-simulation (lap/resimulate.h) disagrees by more than 0.1 %
+// is not trustworthy; true if that made `summary` unconverged.
+bool DistrustUnlessReSimulated(const ResimReport& resim, SolveSummary* summary) {
+  if (!summary->converged || resim.passed) return false;
+  summary->converged = false;
+  summary->message = resim.message + "; ";
+  return true;
+}
+
 int Run(const Arguments& a) {
   CheckOutputFolder(a.output);
   const ttz::RoadArtefact road = ttz::ReadRoad(a.road);
@@ -129,15 +139,19 @@ int Run(const Arguments& a) {
                                 : WarmStartGuess(a, road_sha256, track.Length(), v, mesh, qss, &options);
   SolveSummary summary;
   const LapSolution sol = Solve(a, v, track, mesh, qss, guess, options, &summary);
+  const ResimReport resim = Resimulate(v, track, sol, ResimOptions{});
+  const bool distrusted = DistrustUnlessReSimulated(resim, &summary);
   const LapChannels channels = ComputeLapChannels(v, track, sol);
-  WriteLap(a.output, v, sol, summary, channels, qss,
+  WriteLap(a.output, v, sol, summary, channels, qss, resim,
            {a.solver, BikeToYaml(bike), a.road, road_sha256, track.Length(), a.init});
-  std::cout << (a.json ? LapReportJson(sol, summary, channels.figures)
-                       : LapReportText(sol, summary, channels.figures))
+  std::cout << (a.json ? LapReportJson(sol, summary, channels.figures, resim)
+                       : LapReportText(sol, summary, channels.figures, resim))
             << std::flush;
   if (!summary.converged) {
-    ttz::Log(ttz::LogKind::kError, "the solve did not converge (" + SolveMessage(summary) + "); " + a.output +
-                                       " is written with converged = false");
+    const std::string what =
+        distrusted ? "the solution failed its re-simulation check" : "the solve did not converge";
+    ttz::Log(ttz::LogKind::kError,
+             what + " (" + SolveMessage(summary) + "); " + a.output + " is written with converged = false");
     return ttz::kExitNotConverged;
   }
   return ttz::kExitOk;

@@ -1,111 +1,392 @@
+// The QSS lap (qss.h). At every node the bike is in the model's own quasi-steady state on the
+// centre line (QuasiSteadyResidual below: eq. 10 and 13-16 solved for the attitude at a given
+// speed and acceleration), so the QSS and the optimal solvers share every force. What keeps the
+// QSS lap no faster than the model can go, on the same mesh:
+// - Heat and charge: the motor temperature T (eq. 27-29) and the battery energy e (eq. 33) are
+//   integrated along the profile and every node's limits use them: a hot motor has less torque per
+//   ampere k_tau (eq. 26), a discharged pack a lower voltage V_bn (eq. 22b).
+// - Wheel slip: the wheel spins at omega_w = V (1 + kappa_w) / R_e with kappa_w = F_x / (N K_kappa)
+//   (eq. 18, 20), so the motor's back e.m.f. (eq. 24) meets the voltage limits earlier.
+// - The model's own forces at the node: the load N with the aerodynamic lift (eq. 21) and the
+//   road's vertical curvature, the rolling radius R_e at the lean (eq. 20), the rolling resistance
+//   mu_r (N cos(phi) + F_y sin(phi)) R_e (eq. 18, larger in a lean), the tyre force lost to the
+//   sideslip in a bend, the wheel's spin-up torque (eq. 16).
+// - Speed step V_{i+1}^2 = V_i^2 + 2 h a_{i+1} with the acceleration a_{i+1} of the interval's end,
+//   and T, e likewise with the end's rates: along an acceleration the limit falls with speed, heat
+//   and discharge, so the step stays below the true profile, and the solvers' trapezoidal rule
+//   V_{k+1} - V_k = h/2 (a_k / V_k + a_{k+1} / V_{k+1}) gains more speed from the same a.
+// - Braking to the later speed caps with the braking limit of each interval's slower end.
+// - Lap time by the solvers' trapezoidal rule of 1/V (eq. 38). The time of a constant acceleration,
+//   2 h / (V_i + V_{i+1}), is shorter, so a QSS timed by it could beat the solvers' time of the
+//   same profile. (The solvers integrate 1/sdot; sdot = V sqrt(1 + beta^2) >= V on the centre
+//   line.)
+// - Speed caps from the adherence, the yaw rate and the roll rate (SpeedCap), each at kSafety of
+//   its limit; the pack's power capped so that its energy stays >= 0 (eq. 39g), all but the
+//   ~50 W the smoothed motor current draws with the throttle shut (StepForward).
 #include "lap/qss.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 
-#include "lap/model/powertrain.h"
+#include "lap/model/dynamics.h"
 
 namespace ttz::lap {
 namespace {
 
-double RollingRadius(const Vehicle& v) { return v.r - v.M * v.g / v.K_s; }
+// Share of the tyre's adherence and of the yaw- and roll-rate limits that the QSS uses: strictly
+// inside, so the guess is feasible and the optimum has room to be faster.
+constexpr double kSafety = 0.95;
+// Speed floor [m/s]: the model needs V > 0 (eq. 37); a climb too steep for the bike holds it here.
+constexpr double kMinSpeed = 1.0;
+// Speed cap where nothing else caps the speed [m/s].
+constexpr double kMaxSpeed = 150.0;
 
-// Largest wheel torque tau_t [N m] within every power-train limit, by bisection on the torque
-// (each limit grows monotonically with torque).
-double MaxWheelTorque(const Vehicle& v, double omega_w, double e, double T) {
-  auto ok = [&](double tau) {
-    const Powertrain<double> p = ComputePowertrain(v, tau, omega_w, 0.0, T, e);
-    return p.i_m <= v.motor.current_max && p.P_b <= v.P_b_max &&
-           p.V_mm <= v.motor.voltage_max && p.V_mm <= p.V_mb;
-  };
-  double lo = 0.0, hi = 5000.0;
-  if (!ok(lo)) return 0.0;
-  for (int i = 0; i < 60; ++i) (ok(0.5 * (lo + hi)) ? lo : hi) = 0.5 * (lo + hi);
+// ---- The model's quasi-steady state at one node ----------------------------------------------
+
+// Unknowns of the quasi-steady state at a given speed.
+enum QuasiIndex : int { kQAlpha = 0, kQBeta, kQZ, kQPhi, kQOmegaW, kQTauW, kQOmegaZ, kNumQuasi };
+using QuasiVector = Eigen::Matrix<double, kNumQuasi, 1>;
+
+// Speed, longitudinal acceleration dV/dt, motor temperature and battery energy at a node.
+struct Motion {
+  double V, a, T, e;
+};
+
+// The model's state on the centre line (n = 0) with no roll or vertical rate.
+template <typename J>
+StateVector<J> StateOf(const Motion& mo, const std::array<J, kNumQuasi>& q) {
+  StateVector<J> x;
+  x[kN] = Cst<J>(0.0);
+  x[kAlpha] = q[kQAlpha];
+  x[kV] = Cst<J>(mo.V);
+  x[kBeta] = q[kQBeta];
+  x[kZ] = q[kQZ];
+  x[kPhi] = q[kQPhi];
+  x[kOmegaW] = q[kQOmegaW];
+  x[kT] = Cst<J>(mo.T);
+  x[kE] = Cst<J>(mo.e);
+  x[kOmegaPhi] = Cst<J>(0.0);
+  x[kZdot] = Cst<J>(0.0);
+  return x;
+}
+
+// The conditions of quasi-steady motion (eq. 10, 13-16), zero at the solution: the speed changes
+// at the rate a; sideslip, tyre compression and lean hold still; the wheel keeps its spin per unit
+// speed (slip and rolling radius frozen: domega_w/dt = a omega_w / V); the contact point follows
+// the centre line (dn/dt = dalpha/dt = 0, so tan(alpha) = beta). Also returns the tyre force F_x.
+template <typename J>
+std::array<J, kNumQuasi> QuasiSteadyResidual(const Vehicle& v, const RoadPoint& rp,
+                                             const Motion& mo, const std::array<J, kNumQuasi>& q,
+                                             J* F_x) {
+  const ControlVector<J> u = {q[kQOmegaZ], q[kQTauW]};
+  const ModelPoint<J> m = EvaluateModel(v, StateOf(mo, q), u, rp);
+  *F_x = m.tyre.F_x;
+  return {m.acc[kVdot] - mo.a,
+          m.acc[kBetadot],
+          m.acc[kZddot],
+          m.acc[kPhiddot],
+          m.acc[kOmegaWdot] - mo.a * q[kQOmegaW] / mo.V,
+          m.kin.ndot,
+          m.kin.alphadot};
+}
+
+StateVector<double> StateAt(const Motion& mo, const QuasiVector& q) {
+  std::array<double, kNumQuasi> qd;
+  std::copy(q.data(), q.data() + kNumQuasi, qd.begin());
+  return StateOf(mo, qd);
+}
+
+ControlVector<double> ControlAt(const QuasiVector& q) { return {q[kQOmegaZ], q[kQTauW]}; }
+
+// A solved node: the quasi-steady unknowns q at `mo`, the model there, and how the wheel torque,
+// wheel speed and tyre force move with the acceleration at fixed speed (implicit-function theorem
+// on the conditions above), which the limits below use to search the acceleration.
+struct NodePoint {
+  Motion mo{};
+  QuasiVector q = QuasiVector::Zero();
+  QuasiVector dq_da = QuasiVector::Zero();
+  double dFx_da = 0.0;
+  ModelPoint<double> m;
+  bool solved = false;
+};
+
+// An upright start for the Newton: load from weight and lift (eq. 13c, 21), the lean of a toroidal
+// tyre tan(phi) = V^2 kappa / g h / (h - r_t), slip from the force M a + D (eq. 13a, 18, 20).
+QuasiVector UprightStart(const Vehicle& v, const RoadPoint& rp, const Motion& mo) {
+  const double N = v.M * v.g - v.lift_k * mo.V * mo.V, z = N / v.K_s, R_e = v.r - z;
+  const double F_x = v.M * mo.a + v.drag_k * mo.V * mo.V;
+  QuasiVector q = QuasiVector::Zero();
+  q[kQZ] = z;
+  q[kQPhi] = std::atan(mo.V * mo.V * rp.kappa / v.g * v.h / (v.h - v.r_t));
+  q[kQOmegaW] = mo.V * (1.0 + F_x / (N * v.K_kappa)) / R_e;
+  q[kQTauW] = (F_x + v.mu_r * N) * R_e;
+  q[kQOmegaZ] = mo.V * rp.kappa;
+  return q;
+}
+
+// Newton from np->q; on success fills np (the model, the sensitivities) and returns true, else
+// leaves np as it was.
+bool Newton(const Vehicle& v, const RoadPoint& rp, const Motion& mo, NodePoint* np) {
+  using J = ceres::Jet<double, kNumQuasi>;
+  QuasiVector q = np->q;
+  for (int it = 0; it < 30; ++it) {
+    std::array<J, kNumQuasi> qj;
+    for (int i = 0; i < kNumQuasi; ++i) qj[i] = J(q[i], i);
+    J F_x;
+    const std::array<J, kNumQuasi> r = QuasiSteadyResidual(v, rp, mo, qj, &F_x);
+    Eigen::Matrix<double, kNumQuasi, kNumQuasi> jac;
+    QuasiVector res;
+    for (int i = 0; i < kNumQuasi; ++i) {
+      res[i] = r[i].a;
+      jac.row(i) = r[i].v.transpose();
+    }
+    if (!res.allFinite()) return false;
+    const Eigen::PartialPivLU<Eigen::Matrix<double, kNumQuasi, kNumQuasi>> lu(jac);
+    if (res.cwiseAbs().maxCoeff() <= 1e-9) {
+      QuasiVector dr_da = QuasiVector::Zero();  // d(residual)/da
+      dr_da[0] = -1.0;
+      dr_da[4] = -q[kQOmegaW] / mo.V;
+      np->mo = mo;
+      np->q = q;
+      np->dq_da = -lu.solve(dr_da);
+      np->dFx_da = F_x.v.dot(np->dq_da);
+      np->m = EvaluateModel(v, StateAt(mo, q), ControlAt(q), rp);
+      return true;
+    }
+    q -= lu.solve(res);
+    if (!q.allFinite() || std::abs(q[kQPhi]) > 1.4) return false;
+  }
+  return false;
+}
+
+// Solves the node at `mo`, from np->q (the previous node's answer) and else from upright. Should
+// both fail (no steady state exists, e.g. a start faster than the bend allows), np keeps the
+// upright estimate, evaluated by the model, with the sensitivities of a point mass.
+void Solve(const Vehicle& v, const RoadPoint& rp, const Motion& mo, NodePoint* np) {
+  if (np->solved && Newton(v, rp, mo, np)) return;
+  np->q = UprightStart(v, rp, mo);
+  np->solved = Newton(v, rp, mo, np);
+  if (np->solved) return;
+  np->mo = mo;
+  np->dq_da.setZero();
+  np->dq_da[kQTauW] = v.M * (v.r - np->q[kQZ]) + v.I_wy * np->q[kQOmegaW] / mo.V;
+  np->dFx_da = v.M;
+  np->m = EvaluateModel(v, StateAt(mo, np->q), ControlAt(np->q), rp);
+}
+
+// ---- Limits on the acceleration at a node ----------------------------------------------------
+
+// Wheel torque, wheel speed and tyre force at acceleration a, to first order about the solved
+// point (exact at the acceleration it was solved for).
+struct Drive {
+  double tau_w, omega_w, F_x;
+};
+
+Drive DriveAt(const NodePoint& np, double a) {
+  const double da = a - np.mo.a;
+  return {np.q[kQTauW] + np.dq_da[kQTauW] * da, np.q[kQOmegaW] + np.dq_da[kQOmegaW] * da,
+          np.m.tyre.F_x + np.dFx_da * da};
+}
+
+Powertrain<double> PowertrainAt(const Vehicle& v, const NodePoint& np, const Drive& d) {
+  return ComputePowertrain(v, d.tau_w, d.omega_w, np.mo.V, np.mo.T, np.mo.e);
+}
+
+// The longitudinal force the tyre has left beside the lateral force, kSafety of eq. 19 [N].
+double LongitudinalBudget(const Vehicle& v, const NodePoint& np) {
+  const double N = np.m.tyre.N, lateral = np.m.tyre.F_y / (N * v.mu_y);
+  return kSafety * v.mu_x * N * std::sqrt(std::max(0.0, 1.0 - lateral * lateral));
+}
+
+// The acceleration with the throttle shut: the controller's demand zero, the wheel torque the
+// motor's friction drag -eta_c gamma_c k_tau i_m0 (eq. 25, 26, 31; powertrain.h).
+double CoastAcceleration(const Vehicle& v, const NodePoint& np) {
+  const double k_tau = v.motor.k_tau0 - v.motor.sigma_m * (np.mo.T - v.motor.T_0);
+  const double tau = -v.eta_c * v.gamma_c * k_tau * v.motor.i_m0;
+  return np.mo.a + (tau - np.q[kQTauW]) / np.dq_da[kQTauW];
+}
+
+// Traction within the tyre and every power-train limit (eq. 19, 39e-f, section 5), with the pack's
+// power capped at power_cap [W].
+bool WithinDriveLimits(const Vehicle& v, const NodePoint& np, double a, double power_cap) {
+  const Drive d = DriveAt(np, a);
+  const Powertrain<double> p = PowertrainAt(v, np, d);
+  return d.F_x <= LongitudinalBudget(v, np) && p.i_m <= v.motor.current_max &&
+         p.P_b <= power_cap && p.V_mm <= v.motor.voltage_max && p.V_mm <= p.V_mb;
+}
+
+// The largest acceleration within the limits, by bisection (every limit grows with the wheel
+// torque and, through the slip, with the wheel speed, both increasing in a); the coasting
+// acceleration if even that breaks a limit (the back e.m.f. alone above the voltage limit).
+double MaxAcceleration(const Vehicle& v, const NodePoint& np, double power_cap) {
+  double lo = CoastAcceleration(v, np), hi = lo + 2.0 * v.mu_x * v.g;
+  if (!WithinDriveLimits(v, np, lo, power_cap)) return lo;
+  for (int i = 0; i < 50; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (WithinDriveLimits(v, np, mid, power_cap) ? lo : hi) = mid;
+  }
   return lo;
 }
 
-// Longitudinal acceleration budget left by the lateral use of the ellipse [m/s^2].
-double EllipseLongitudinal(const Vehicle& v, double V, double kappa) {
-  const double lateral = V * V * std::abs(kappa) / (v.mu_y * v.g);
-  return v.mu_x * v.g * std::sqrt(std::max(0.0, 1.0 - lateral * lateral));
+// The smallest (most negative) acceleration: the tyre's braking force (eq. 19) or the brake's
+// torque, whichever binds first.
+double MinAcceleration(const Vehicle& v, const NodePoint& np) {
+  const double a = np.mo.a;
+  const double by_tyre = a + (-LongitudinalBudget(v, np) - np.m.tyre.F_x) / np.dFx_da;
+  const double by_brake = a + (-v.brake_torque_max - np.q[kQTauW]) / np.dq_da[kQTauW];
+  return std::max(by_tyre, by_brake);
+}
+
+// ---- The speed profile -----------------------------------------------------------------------
+
+// The speed above which the QSS may not go at a road point, each limit at kSafety:
+// - lateral adherence F_y <= mu_y N (eq. 19) with F_y = M V^2 |kappa| and N = M (g + V^2 nu) - L
+//   (eq. 13c, 21); the model's F_y is ~1 % less (the centre of mass leans into the bend);
+// - yaw rate |Omega_z| = V |kappa| <= Omega_z_max (eq. 39c);
+// - roll rate (eq. 39b) as the lean follows the curvature: with tan(phi) = k V^2 kappa / g,
+//   |omega_phi| = V |dphi/ds| <= k V^3 |dkappa/ds| / g. The lean factor k is largest upright,
+//   where the toroidal tyre makes it h / (h - r_t) (1.2 for the bx15, whose model lean is 1.22
+//   times atan(V^2 kappa / g) with the gyroscopic moment); 1.1 h / (h - r_t) bounds it.
+double SpeedCap(const Vehicle& v, const RoadPoint& rp) {
+  double cap = kMaxSpeed;
+  const double k = std::abs(rp.kappa);
+  const double lateral = v.M * k + kSafety * v.mu_y * (v.lift_k - v.M * rp.nu);
+  if (lateral > 0.0) cap = std::min(cap, std::sqrt(kSafety * v.mu_y * v.M * v.g / lateral));
+  if (k > 0.0) cap = std::min(cap, kSafety * v.Omega_z_max / k);
+  const double lean = 1.1 * v.h / (v.h - v.r_t);
+  if (rp.dkappa != 0.0)
+    cap = std::min(cap, std::cbrt(kSafety * v.omega_phi_max * v.g / (lean * std::abs(rp.dkappa))));
+  return cap;
+}
+
+// Backward pass: the largest speed at each node from which the bike can still brake to every later
+// cap, V_{i-1}^2 = V_i^2 - 2 h a_min with the braking limit of node i, the slower end (the
+// mechanics do not depend on T and e; they are held at T0 and e0).
+std::vector<double> BrakingEnvelope(const Vehicle& v, const std::vector<RoadPoint>& rp,
+                                    const std::vector<double>& mesh,
+                                    const std::vector<double>& cap) {
+  const int n = static_cast<int>(mesh.size());
+  std::vector<double> envelope = cap;
+  NodePoint np;
+  double a = 0.0;
+  for (int i = n - 1; i > 0; --i) {
+    Solve(v, rp[i], Motion{envelope[i], a, v.T0, v.e0}, &np);
+    a = MinAcceleration(v, np);
+    const double h = mesh[i] - mesh[i - 1];
+    const double V2 = envelope[i] * envelope[i] - 2.0 * h * a;
+    envelope[i - 1] = std::min(cap[i - 1], std::sqrt(std::max(kMinSpeed * kMinSpeed, V2)));
+  }
+  return envelope;
+}
+
+// Node i + 1 from node i: full throttle within every limit, or the envelope's speed where that is
+// lower. The fixed point of
+//   V^2 = V_i^2 + 2 h a,   T = T_i + T_dot dt,   e = e_i + e_dot dt,   dt = h/2 (1/V_i + 1/V)
+// with a, T_dot and e_dot of node i + 1; the pack's power is capped so that e >= 0 (eq. 39g), but
+// never below what it draws with the throttle shut (the smoothed motor current, smooth.h).
+NodePoint StepForward(const Vehicle& v, const RoadPoint& rp, const NodePoint& prev, double h,
+                      double envelope) {
+  NodePoint np = prev;
+  Motion mo = prev.mo;
+  for (int it = 0; it < 30; ++it) {
+    Solve(v, rp, mo, &np);
+    const double dt = 0.5 * h * (1.0 / prev.mo.V + 1.0 / mo.V);
+    Motion next = mo;
+    next.T = prev.mo.T + np.m.power.T_dot * dt;
+    next.e = prev.mo.e + np.m.power.e_dot * dt;
+    const double idle = PowertrainAt(v, np, DriveAt(np, CoastAcceleration(v, np))).P_b;
+    const double power_cap = std::min(v.P_b_max, std::max(prev.mo.e / dt, idle));
+    const double V2 = prev.mo.V * prev.mo.V + 2.0 * h * MaxAcceleration(v, np, power_cap);
+    next.V = std::clamp(std::sqrt(std::max(0.0, V2)), kMinSpeed, std::max(kMinSpeed, envelope));
+    next.a = (next.V * next.V - prev.mo.V * prev.mo.V) / (2.0 * h);
+    const bool settled = std::abs(next.V - mo.V) <= 1e-10 * mo.V &&
+                         std::abs(next.T - mo.T) <= 1e-9 && std::abs(next.e - mo.e) <= 1e-6;
+    mo = next;
+    if (settled) break;
+  }
+  Solve(v, rp, mo, &np);
+  return np;
+}
+
+// Forward pass from the bike's initial state. Node 0 takes the first interval's acceleration (the
+// step rule uses only the later node's).
+std::vector<NodePoint> ForwardPass(const Vehicle& v, const std::vector<RoadPoint>& rp,
+                                   const std::vector<double>& mesh,
+                                   const std::vector<double>& envelope) {
+  const int n = static_cast<int>(mesh.size());
+  std::vector<NodePoint> nodes(n);
+  Solve(v, rp[0], Motion{v.V0, 0.0, v.T0, v.e0}, &nodes[0]);
+  for (int i = 0; i + 1 < n; ++i)
+    nodes[i + 1] = StepForward(v, rp[i + 1], nodes[i], mesh[i + 1] - mesh[i], envelope[i + 1]);
+  if (n > 1) Solve(v, rp[0], Motion{v.V0, nodes[1].mo.a, v.T0, v.e0}, &nodes[0]);
+  return nodes;
+}
+
+// d f / ds at node i by differences (central inside, one-sided at the ends).
+double Slope(const std::vector<double>& s, const std::vector<double>& f, int i) {
+  const int n = static_cast<int>(s.size());
+  if (n < 2) return 0.0;
+  const int lo = std::max(0, i - 1), hi = std::min(n - 1, i + 1);
+  return (f[hi] - f[lo]) / (s[hi] - s[lo]);
+}
+
+// The lap from the nodes: time by the trapezoidal rule, states and controls, the roll and
+// vertical rates from the lean and the compression along s (omega_phi = V dphi/ds, eq. 34).
+QssLap Assemble(const std::vector<double>& mesh, const std::vector<NodePoint>& nodes) {
+  const int n = static_cast<int>(mesh.size());
+  QssLap q;
+  q.s = mesh;
+  q.V.resize(n);
+  q.t.assign(n, 0.0);
+  q.x.resize(n);
+  q.u.resize(n);
+  std::vector<double> phi(n), z(n);
+  for (int i = 0; i < n; ++i) {
+    const NodePoint& np = nodes[i];
+    q.V[i] = np.mo.V;
+    phi[i] = np.q[kQPhi];
+    z[i] = np.q[kQZ];
+    q.x[i] = StateAt(np.mo, np.q);
+    q.u[i] = ControlAt(np.q);
+    if (i > 0)
+      q.t[i] = q.t[i - 1] + 0.5 * (mesh[i] - mesh[i - 1]) * (1.0 / q.V[i - 1] + 1.0 / q.V[i]);
+  }
+  for (int i = 0; i < n; ++i) {
+    q.x[i][kOmegaPhi] = q.V[i] * Slope(mesh, phi, i);
+    q.x[i][kZdot] = q.V[i] * Slope(mesh, z, i);
+  }
+  q.lap_time = q.t.back();
+  return q;
 }
 
 }  // namespace
 
 double MaxTractionForce(const Vehicle& v, double V, double e, double T) {
-  const double R = RollingRadius(v);
-  return MaxWheelTorque(v, V / R, e, T) / R;
+  const RoadPoint level{};
+  NodePoint np;
+  Motion mo{V, 0.0, T, e};
+  for (int it = 0; it < 30; ++it) {
+    Solve(v, level, mo, &np);
+    const double a = MaxAcceleration(v, np, v.P_b_max);
+    const bool settled = std::abs(a - mo.a) <= 1e-12 * (1.0 + std::abs(a));
+    mo.a = a;
+    if (settled) break;
+  }
+  Solve(v, level, mo, &np);
+  return np.q[kQTauW] / np.m.tyre.R_e;
 }
 
 QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh) {
   const int n = static_cast<int>(mesh.size());
-  const double safety = 0.95;  // of the adherence, so the guess is strictly inside the ellipse
   std::vector<RoadPoint> rp(n);
-  std::vector<double> vmax(n);
+  std::vector<double> cap(n);
   for (int i = 0; i < n; ++i) {
     rp[i] = road.At(mesh[i]);
-    const double k = std::max(std::abs(rp[i].kappa), 1e-9);
-    vmax[i] = std::min(150.0, std::sqrt(safety * v.mu_y * v.g / k));
+    cap[i] = SpeedCap(v, rp[i]);
   }
-  // The wheel's spin inertia adds to the mass being accelerated or braked (eq. 16).
-  const double R = RollingRadius(v), M_eff = v.M + v.I_wy / (R * R);
-  QssLap q;
-  q.s = mesh;
-  q.V.assign(n, 0.0);
-  q.V[0] = std::min(v.V0, vmax[0]);
-  // Forward: traction under the power train and the ellipse.
-  for (int i = 0; i + 1 < n; ++i) {
-    const double V = q.V[i], h = mesh[i + 1] - mesh[i];
-    const double resist = v.drag_k * V * V / v.M + v.mu_r * v.g + v.g * std::sin(rp[i].sigma);
-    const double ax = std::min(MaxTractionForce(v, V, v.e0, v.T0) / M_eff,
-                               safety * EllipseLongitudinal(v, V, rp[i].kappa) * v.M / M_eff) -
-                      resist * v.M / M_eff;
-    q.V[i + 1] = std::min(vmax[i + 1], std::sqrt(std::max(1.0, V * V + 2.0 * ax * h)));
-  }
-  // Backward: braking under the ellipse.
-  for (int i = n - 1; i > 0; --i) {
-    const double V = q.V[i], h = mesh[i] - mesh[i - 1];
-    const double resist = v.drag_k * V * V / v.M + v.mu_r * v.g + v.g * std::sin(rp[i].sigma);
-    const double ab = (safety * EllipseLongitudinal(v, V, rp[i].kappa) + resist) * v.M / M_eff;
-    q.V[i - 1] = std::min(q.V[i - 1], std::sqrt(V * V + 2.0 * std::max(ab, 0.1) * h));
-  }
-  // Time and the model states that go with the profile.
-  q.t.assign(n, 0.0);
-  for (int i = 0; i + 1 < n; ++i)
-    q.t[i + 1] = q.t[i] + 2.0 * (mesh[i + 1] - mesh[i]) / (q.V[i] + q.V[i + 1]);
-  q.lap_time = q.t.back();
-  q.x.resize(n);
-  q.u.resize(n);
-  double e = v.e0;
-  const double N = v.M * v.g;
-  for (int i = 0; i < n; ++i) {
-    const double V = q.V[i];
-    const double ax = i + 1 < n ? (q.V[i + 1] * q.V[i + 1] - V * V) / (2 * (mesh[i + 1] - mesh[i]))
-                                : 0.0;
-    const double Oz = V * rp[i].kappa;
-    const double phi = std::atan(V * Oz / v.g);
-    StateVector<double>& x = q.x[i];
-    x[kN] = 0.0;
-    x[kAlpha] = 0.0;
-    x[kV] = V;
-    x[kPhi] = phi;
-    x[kBeta] = (V * Oz / v.g - v.K_phi * phi) / v.K_beta;
-    x[kZ] = (N - v.lift_k * V * V) / v.K_s;
-    const double resist = v.drag_k * V * V / v.M + v.g * std::sin(rp[i].sigma);
-    const double Fx = v.M * (ax + resist);
-    const double kappa_w = Fx / (N * v.K_kappa);
-    const double R_e = v.r - v.r_t + std::cos(phi) * (v.r_t - x[kZ]);
-    x[kOmegaW] = V * (1.0 + kappa_w) / R_e;
-    x[kT] = v.T0;
-    x[kE] = e;
-    x[kOmegaPhi] = 0.0;
-    x[kZdot] = 0.0;
-    const double tau_w = Fx * R_e + v.mu_r * N * R_e;
-    q.u[i] = {Oz, tau_w};
-    const Powertrain<double> p = ComputePowertrain(v, tau_w, x[kOmegaW], V, v.T0, e);
-    if (i + 1 < n) e += p.e_dot * (q.t[i + 1] - q.t[i]);
-  }
-  return q;
+  return Assemble(mesh, ForwardPass(v, rp, mesh, BrakingEnvelope(v, rp, mesh, cap)));
 }
 
 }  // namespace ttz::lap

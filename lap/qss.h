@@ -1,8 +1,10 @@
-// The quasi-steady-state (QSS) lap on the centre line: the speed profile that respects, point by
-// point, the lateral adherence in steady cornering, the adherence ellipse when accelerating and
-// braking, and the power train's current, voltage and power limits (forward and backward
-// integration), and the full model state that goes with it. It is the optimal solver's initial
-// guess and its yardstick: the optimal lap can only be faster.
+// The quasi-steady-state (QSS) lap on the centre line: the speed profile that respects, node by
+// node, the tyre's adherence in steady cornering and when accelerating and braking, the yaw- and
+// roll-rate limits, and the power train's current, voltage, power and charge limits with the motor
+// temperature and the battery energy integrated along the profile (forward and backward passes),
+// and the full model state that goes with it. It is the optimal solver's initial guess and its
+// yardstick: on the same mesh, the optimal lap can only be faster (qss.cc lists what makes the QSS
+// no faster than the model).
 #pragma once
 
 #include <vector>
@@ -17,15 +19,23 @@ struct QssLap {
   std::vector<double> s;                   // mesh [m]
   std::vector<double> V;                   // speed [m/s]
   std::vector<double> t;                   // time [s]
-  std::vector<StateVector<double>> x;      // model states along the profile
+  std::vector<StateVector<double>> x;      // model states along the profile; x[0] is the bike's
+                                           // initial state (V0, T0, e0)
   std::vector<ControlVector<double>> u;    // controls (yaw rate, wheel torque)
-  double lap_time = 0.0;                   // [s]
+  double lap_time = 0.0;                   // [s], by the solvers' rule (eq. 38, trapezoidal)
 };
 
-// Largest traction force at the wheel [N] the power train gives at speed V, charge e, motor
-// temperature T (current, motor-voltage, pack-voltage and pack-power limits; eq. 22-31, 39e-f).
+// Largest traction force tau_w / R_e [N] that the power train gives on a straight level road at
+// speed V, battery energy e and motor temperature T (current, motor-voltage, pack-voltage and
+// pack-power limits, eq. 22-31, 39e-f; and 95 % of the tyre's adherence, eq. 19), upright, with
+// the wheel spinning faster than V / R_e by the slip that the tyre force needs (eq. 18, 20) and
+// the wheel's spin-up torque (eq. 16) in tau_w.
 double MaxTractionForce(const Vehicle& v, double V, double e, double T);
 
+// The QSS lap on `mesh`. x[0] is always the bike's initial state: speed V0, motor temperature T0
+// and energy e0, whatever the road; if V0 exceeds what the tyre allows at s = 0 the profile brakes
+// to its envelope over the first interval (a start the model cannot hold; the solvers, which fix
+// x[0], report the violated constraint).
 QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh);
 
 }  // namespace ttz::lap

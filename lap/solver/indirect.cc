@@ -17,77 +17,82 @@ namespace {
 
 constexpr int kW = 2 * kNumStates;  // unknowns per node: scaled states and costates
 
-// The discretised necessary conditions: unknowns, node evaluations and the barrier weight.
+// The discretised necessary conditions: unknowns at the nodes, the Hamiltonian's evaluations at
+// the interval midpoints (one control per interval) and the barrier weight.
 struct Transcription {
   const Vehicle* v;
   Scales sc;
-  std::vector<RoadPoint> road;
-  std::vector<double> s;
+  std::vector<RoadPoint> road;  // at the interval midpoints
+  std::vector<double> s;        // nodes
   std::vector<double> w;  // (N + 1) x kW: [x~_k, lambda~_k]
-  std::vector<NodeData> nodes;
+  std::vector<NodeData> mids;   // N interval midpoints
   BarrierWeight weight{};  // set by the continuation before each solve
   int threads = 1;
   bool all_valid = false;
 
   int NumNodes() const { return static_cast<int>(s.size()); }
   double* W(int k) { return w.data() + k * kW; }
+  double H(int k) const { return s[k + 1] - s[k]; }
 
-  void EvaluateNodes(bool jacobians) {
+  void EvaluateMids(bool jacobians) {
     auto work = [&](int first, int last) {
       for (int k = first; k < last; ++k) {
         StateVector<double> xs, ls;
-        std::copy(W(k), W(k) + kNumStates, xs.begin());
-        std::copy(W(k) + kNumStates, W(k) + kW, ls.begin());
-        EvaluateNode(*v, sc, road[k], weight, xs, ls, jacobians, &nodes[k]);
+        for (int i = 0; i < kNumStates; ++i) {
+          xs[i] = 0.5 * (W(k)[i] + W(k + 1)[i]);
+          ls[i] = 0.5 * (W(k)[kNumStates + i] + W(k + 1)[kNumStates + i]);
+        }
+        EvaluateNode(*v, sc, road[k], weight, xs, ls, jacobians, &mids[k]);
       }
     };
-    const int n = NumNodes(), parts = std::max(1, threads);
+    const int n = NumNodes() - 1, parts = std::max(1, threads);
     std::vector<std::thread> pool;
     for (int p = 1; p < parts; ++p) pool.emplace_back(work, n * p / parts, n * (p + 1) / parts);
     work(0, n / parts);
     for (auto& t : pool) t.join();
-    all_valid = std::all_of(nodes.begin(), nodes.end(), [](const NodeData& d) { return d.valid; });
+    all_valid = std::all_of(mids.begin(), mids.end(), [](const NodeData& d) { return d.valid; });
   }
 
   double LapTime() const {
     double t = 0.0;
-    for (int k = 0; k + 1 < NumNodes(); ++k)
-      t += 0.5 * (s[k + 1] - s[k]) * (nodes[k].dt_ds + nodes[k + 1].dt_ds);
+    for (int k = 0; k + 1 < NumNodes(); ++k) t += H(k) * mids[k].dt_ds;
     return t;
   }
 };
 
-// Ceres calls this before evaluating residuals at a new point: every node is evaluated once.
+// Ceres calls this before evaluating residuals at a new point: every midpoint is evaluated once.
 class NodeCallback : public ceres::EvaluationCallback {
  public:
   explicit NodeCallback(Transcription* tr) : tr_(tr) {}
   void PrepareForEvaluation(bool evaluate_jacobians, bool) final {
-    tr_->EvaluateNodes(evaluate_jacobians);
+    tr_->EvaluateMids(evaluate_jacobians);
   }
 
  private:
   Transcription* tr_;
 };
 
-// Trapezoidal collocation of the states and costates on interval [k, k+1]:
-//   x~_{k+1} - x~_k - h/2 (F_k + F_{k+1}) = 0,  lambda~_{k+1} - lambda~_k + h/2 (G_k + G_{k+1}) = 0.
+// Implicit-midpoint collocation of the states and costates on interval [k, k+1], with one control
+// per interval, u* at the midpoint (x~, lambda~)_{k+1/2} = (w_k + w_{k+1}) / 2:
+//   x~_{k+1} - x~_k - h F_{k+1/2} = 0,  lambda~_{k+1} - lambda~_k + h G_{k+1/2} = 0.
+// The trapezoidal rule with controls at the nodes sees only the mean of two neighbouring controls,
+// so an alternating (odd-even) pattern of controls changes no defect: on the fast wheel-spin and
+// roll modes that null direction left Newton stalled. The midpoint rule has no such direction, and
+// it is symplectic: these costate equations are the exact adjoint of its state equations.
 class IntervalResidual : public ceres::SizedCostFunction<kW, kW, kW> {
  public:
   IntervalResidual(const Transcription* tr, int k) : tr_(tr), k_(k) {}
   bool Evaluate(const double* const* p, double* r, double** J) const final {
-    const NodeData& a = tr_->nodes[k_];
-    const NodeData& b = tr_->nodes[k_ + 1];
-    if (!a.valid || !b.valid) return false;
-    const double h = tr_->s[k_ + 1] - tr_->s[k_];
+    const NodeData& d = tr_->mids[k_];
+    if (!d.valid) return false;
+    const double h = tr_->H(k_);
     for (int i = 0; i < kNumStates; ++i) {
-      r[i] = p[1][i] - p[0][i] - 0.5 * h * (a.F(i) + b.F(i));
-      r[kNumStates + i] =
-          p[1][kNumStates + i] - p[0][kNumStates + i] + 0.5 * h * (a.G(i) + b.G(i));
+      r[i] = p[1][i] - p[0][i] - h * d.F(i);
+      r[kNumStates + i] = p[1][kNumStates + i] - p[0][kNumStates + i] + h * d.G(i);
     }
     if (J == nullptr) return true;
     for (int side = 0; side < 2; ++side) {
       if (J[side] == nullptr) continue;
-      const NodeData& d = side == 0 ? a : b;
       const double sign = side == 0 ? -1.0 : 1.0;
       Eigen::Map<Eigen::Matrix<double, kW, kW, Eigen::RowMajor>> M(J[side]);
       M.topLeftCorner<kNumStates, kNumStates>() = -0.5 * h * d.dF_dx;
@@ -123,7 +128,7 @@ class AcceptControls : public ceres::IterationCallback {
   explicit AcceptControls(Transcription* tr) : tr_(tr) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) final {
     if (s.step_is_successful)
-      for (NodeData& d : tr_->nodes) d.u_start = d.u;
+      for (NodeData& d : tr_->mids) d.u_start = d.u;
     return ceres::SOLVER_CONTINUE;
   }
 
@@ -136,7 +141,7 @@ BarrierWeight WeightFor(double eps) { return {eps, std::min(1e-3, 0.1 * eps)}; }
 
 // Largest |residual| of the system at the current unknowns (state part and all).
 void ResidualLevels(Transcription* tr, double* max_all, double* max_state) {
-  tr->EvaluateNodes(false);
+  tr->EvaluateMids(false);
   *max_all = *max_state = tr->all_valid ? 0.0 : HUGE_VAL;
   if (!tr->all_valid) return;
   for (int k = 0; k + 1 < tr->NumNodes(); ++k) {
@@ -151,49 +156,42 @@ void ResidualLevels(Transcription* tr, double* max_all, double* max_state) {
   }
 }
 
-}  // namespace
-
-LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
-                          const std::vector<double>& mesh,
-                          const std::vector<StateVector<double>>& x_guess,
-                          const std::vector<StateVector<double>>& lambda_guess,
-                          const std::vector<ControlVector<double>>& u_guess,
-                          const IndirectOptions& options, SolveSummary* summary) {
-  const auto start = std::chrono::steady_clock::now();
-  const int n = static_cast<int>(mesh.size());
-  Transcription tr;
-  tr.v = &v;
-  tr.sc = DefaultScales(v);
-  tr.s = mesh;
-  tr.threads = options.num_threads;
-  tr.road.resize(n);
-  tr.nodes.resize(n);
-  tr.w.assign(static_cast<size_t>(n) * kW, 0.0);
-  for (int k = 0; k < n; ++k) {
-    tr.road[k] = road.At(mesh[k]);
+// Unknowns from the guess: scaled states and costates at the nodes, control starts at the midpoints.
+void Initialise(const RoadTrack& road, const std::vector<StateVector<double>>& x_guess,
+                const std::vector<StateVector<double>>& lambda_guess,
+                const std::vector<ControlVector<double>>& u_guess, Transcription* tr) {
+  const int n = tr->NumNodes();
+  tr->road.resize(n - 1);
+  tr->mids.resize(n - 1);
+  tr->w.assign(static_cast<size_t>(n) * kW, 0.0);
+  for (int k = 0; k < n; ++k)
     for (int i = 0; i < kNumStates; ++i) {
-      tr.W(k)[i] = x_guess[k][i] / tr.sc.state[i];
-      tr.W(k)[kNumStates + i] = lambda_guess.empty() ? 0.0 : lambda_guess[k][i];
+      tr->W(k)[i] = x_guess[k][i] / tr->sc.state[i];
+      tr->W(k)[kNumStates + i] = lambda_guess.empty() ? 0.0 : lambda_guess[k][i];
     }
+  for (int k = 0; k + 1 < n; ++k) {
+    tr->road[k] = road.At(0.5 * (tr->s[k] + tr->s[k + 1]));
     for (int i = 0; i < kNumControls; ++i)
-      tr.nodes[k].u_start[i] = u_guess[k][i] / tr.sc.control[i];
+      tr->mids[k].u_start[i] = 0.5 * (u_guess[k][i] + u_guess[k + 1][i]) / tr->sc.control[i];
   }
+}
 
-  ceres::Problem::Options popts;
-  NodeCallback callback(&tr);
-  popts.evaluation_callback = &callback;
-  ceres::Problem problem(popts);
+// One residual block per interval; x(0) and lambda(s_f) = 0 held by SubsetManifolds.
+void BuildProblem(Transcription* tr, ceres::Problem* problem) {
+  const int n = tr->NumNodes();
   for (int k = 0; k + 1 < n; ++k)
-    problem.AddResidualBlock(new IntervalResidual(&tr, k), nullptr, tr.W(k), tr.W(k + 1));
+    problem->AddResidualBlock(new IntervalResidual(tr, k), nullptr, tr->W(k), tr->W(k + 1));
   std::vector<int> first_states(kNumStates), last_costates(kNumStates);
   for (int i = 0; i < kNumStates; ++i) {
     first_states[i] = i;
     last_costates[i] = kNumStates + i;
   }
-  problem.SetManifold(tr.W(0), new ceres::SubsetManifold(kW, first_states));  // x(0) fixed
-  for (int i = kNumStates; i < kW; ++i) tr.W(n - 1)[i] = 0.0;                 // lambda(s_f) = 0
-  problem.SetManifold(tr.W(n - 1), new ceres::SubsetManifold(kW, last_costates));
+  problem->SetManifold(tr->W(0), new ceres::SubsetManifold(kW, first_states));
+  for (int i = kNumStates; i < kW; ++i) tr->W(n - 1)[i] = 0.0;
+  problem->SetManifold(tr->W(n - 1), new ceres::SubsetManifold(kW, last_costates));
+}
 
+ceres::Solver::Options CeresOptions(const IndirectOptions& options) {
   ceres::Solver::Options so;
   so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   so.minimizer_type = ceres::TRUST_REGION;
@@ -205,115 +203,173 @@ LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
   so.num_threads = options.num_threads;
   so.minimizer_progress_to_stdout = options.verbose;
   so.update_state_every_iteration = true;
-  AcceptControls accept(&tr);
-  StopAtTolerance stop(options.residual_tolerance);
-  so.callbacks.push_back(&accept);
-  so.callbacks.push_back(&stop);
+  return so;
+}
 
-  summary->steps.clear();
-  summary->iterations = 0;
+// The barrier continuation: solve at eps, shrink eps by the factor after a converged step, go
+// back to the last converged step with a smaller factor after a failed one.
+struct Continuation {
+  std::vector<ContinuationStep> good;  // converged steps
+  double max_all = HUGE_VAL, max_state = HUGE_VAL;  // residual levels of the last converged step
+  double failed_eps = 0.0;             // > 0 when the continuation gave up there
+};
+
+Continuation RunContinuation(const IndirectOptions& options, Transcription* tr,
+                             ceres::Problem* problem, SolveSummary* summary) {
+  ceres::Solver::Options so = CeresOptions(options);
+  AcceptControls accept(tr);
+  StopAtTolerance stop(options.residual_tolerance);
+  so.callbacks = {&accept, &stop};
+  Continuation c;
   double eps = options.eps_start, factor = options.eps_factor;
-  std::vector<double> w_good = tr.w;
-  std::vector<NodeData> nodes_good = tr.nodes;
-  bool first = true, failed = false;
+  std::vector<double> w_good = tr->w;
+  std::vector<NodeData> mids_good = tr->mids;
   int retries = 0;
-  std::vector<ContinuationStep> good;
-  double good_max_all = HUGE_VAL, good_max_state = HUGE_VAL;  // residual levels of w_good
   while (true) {
-    tr.weight = WeightFor(eps);
+    const bool first = c.good.empty();
+    tr->weight = WeightFor(eps);
     so.use_nonmonotonic_steps = first;
     so.initial_trust_region_radius = first ? 1e4 : 1e12;
     ceres::Solver::Summary cs;
     const auto t0 = std::chrono::steady_clock::now();
-    ceres::Solve(so, &problem, &cs);
+    ceres::Solve(so, problem, &cs);
     double max_all, max_state;
-    ResidualLevels(&tr, &max_all, &max_state);
+    ResidualLevels(tr, &max_all, &max_state);
     ContinuationStep step;
     step.eps = eps;
     step.iterations = static_cast<int>(cs.iterations.size());
     step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    step.converged = tr.all_valid && max_all <= 10.0 * options.residual_tolerance;
-    step.lap_time = tr.all_valid ? tr.LapTime() : 0.0;
+    step.converged = tr->all_valid && max_all <= 10.0 * options.residual_tolerance;
+    step.lap_time = tr->all_valid ? tr->LapTime() : 0.0;
     summary->iterations += step.iterations;
     summary->steps.push_back(step);
-    {
-      std::ostringstream o;
-      o << "eps " << eps << ": " << (step.converged ? "converged" : "FAILED") << " in "
-        << step.iterations << " iterations, " << step.seconds << " s, lap " << step.lap_time
-        << " s, max residual " << max_all;
-      Log(LogKind::kInfo, o.str());
-    }
+    std::ostringstream o;
+    o << "eps " << eps << ": " << (step.converged ? "converged" : "FAILED") << " in "
+      << step.iterations << " iterations, " << step.seconds << " s, lap " << step.lap_time
+      << " s, max residual " << max_all;
+    Log(LogKind::kInfo, o.str());
     if (step.converged) {
-      good.push_back(step);
-      good_max_all = max_all;
-      good_max_state = max_state;
-      w_good = tr.w;
-      nodes_good = tr.nodes;
-      first = false;
+      c.good.push_back(step);
+      c.max_all = max_all;
+      c.max_state = max_state;
+      w_good = tr->w;
+      mids_good = tr->mids;
       retries = 0;
-      for (NodeData& d : tr.nodes) d.u_start = d.u;
+      for (NodeData& d : tr->mids) d.u_start = d.u;
       if (eps <= options.eps_end * (1 + 1e-12)) break;
       eps = std::max(options.eps_end, eps * factor);
-    } else {
-      if (first || ++retries > options.max_retries) {
-        failed = true;
-        break;
-      }
-      tr.w = w_good;
-      tr.nodes = nodes_good;
-      const double last = good.back().eps;
-      factor = std::sqrt(eps / last);
-      eps = last * factor;
+      continue;
     }
+    if (first || ++retries > options.max_retries) {
+      c.failed_eps = eps;
+      break;
+    }
+    tr->w = w_good;
+    tr->mids = mids_good;
+    const double last = c.good.back().eps;
+    factor = std::sqrt(eps / last);
+    eps = last * factor;
   }
-  if (!good.empty()) {  // else keep the last iterate of the failed first solve: it shows where
-    tr.w = w_good;      // the solve got stuck
-    tr.nodes = nodes_good;
+  if (!c.good.empty()) {  // else keep the last iterate of the failed first solve: it shows where
+    tr->w = w_good;       // the solve got stuck
+    tr->mids = mids_good;
   }
+  return c;
+}
 
+// States, costates and time at the nodes. The transcription's controls live on the intervals
+// (one per midpoint); a node reports the mean of its neighbouring intervals' controls (an end node,
+// its one interval's). Every constraint is checked where the transcription evaluates it, at the
+// midpoints.
+LapSolution NodeSolution(const Vehicle& v, const Transcription& tr, SolveSummary* summary) {
+  const int n = tr.NumNodes();
   LapSolution sol;
-  sol.s = mesh;
+  sol.s = tr.s;
   sol.x.resize(n);
   sol.lambda.resize(n);
-  sol.u.resize(n);
+  sol.u.assign(n, ControlVector<double>{});
   sol.t.assign(n, 0.0);
+  for (int k = 0; k < n; ++k)
+    for (int i = 0; i < kNumStates; ++i) {
+      sol.x[k][i] = tr.w[k * kW + i] * tr.sc.state[i];
+      sol.lambda[k][i] = tr.w[k * kW + kNumStates + i];
+    }
   summary->max_violation.assign(kNumConstraints, -HUGE_VAL);
   summary->control_failures = 0;
-  for (int k = 0; k < n; ++k) {
-    for (int i = 0; i < kNumStates; ++i) {
-      sol.x[k][i] = tr.W(k)[i] * tr.sc.state[i];
-      sol.lambda[k][i] = tr.W(k)[kNumStates + i];
+  for (int k = 0; k + 1 < n; ++k) {
+    const NodeData& mid = tr.mids[k];
+    sol.t[k + 1] = sol.t[k] + tr.H(k) * mid.dt_ds;
+    if (!mid.control_converged) ++summary->control_failures;
+    StateVector<double> xm;
+    ControlVector<double> um;
+    for (int i = 0; i < kNumStates; ++i) xm[i] = 0.5 * (sol.x[k][i] + sol.x[k + 1][i]);
+    for (int i = 0; i < kNumControls; ++i) {
+      um[i] = mid.u[i] * tr.sc.control[i];
+      for (int node : {k, k + 1})
+        sol.u[node][i] += um[i] * ((node == 0 || node == n - 1) ? 1.0 : 0.5);
     }
-    for (int i = 0; i < kNumControls; ++i) sol.u[k][i] = tr.nodes[k].u[i] * tr.sc.control[i];
-    if (k > 0)
-      sol.t[k] = sol.t[k - 1] + 0.5 * (mesh[k] - mesh[k - 1]) *
-                                     (tr.nodes[k - 1].dt_ds + tr.nodes[k].dt_ds);
-    if (!tr.nodes[k].control_converged) ++summary->control_failures;
-    const ModelPoint<double> m = EvaluateModel(v, sol.x[k], sol.u[k], tr.road[k]);
-    const ConstraintVector<double> g = EvaluateConstraints(v, sol.x[k], sol.u[k], tr.road[k], m);
+    const RoadPoint& rp = tr.road[k];
+    const ConstraintVector<double> g = EvaluateConstraints(v, xm, um, rp, EvaluateModel(v, xm, um, rp));
     for (int j = 0; j < kNumConstraints; ++j)
       summary->max_violation[j] = std::max(summary->max_violation[j], g[j]);
   }
-  sol.eps = good.empty() ? eps : good.back().eps;
   sol.lap_time = sol.t.back();
-  sol.lap_time_extrapolated = sol.lap_time;
-  if (good.size() >= 2) {
-    const ContinuationStep& a = good[good.size() - 2];
-    const ContinuationStep& b = good.back();
-    sol.lap_time_extrapolated = b.lap_time - (a.lap_time - b.lap_time) * b.eps / (a.eps - b.eps);
-  }
-  summary->max_residual = good_max_all;
-  summary->max_state_defect = good_max_state;
-  const double worst = *std::max_element(summary->max_violation.begin(),
-                                         summary->max_violation.end());
+  return sol;
+}
+
+// Linear extrapolation of the lap time in eps through the last two converged steps to eps = 0.
+double Extrapolate(const std::vector<ContinuationStep>& good) {
+  if (good.size() < 2) return good.empty() ? 0.0 : good.back().lap_time;
+  const ContinuationStep& a = good[good.size() - 2];
+  const ContinuationStep& b = good.back();
+  return b.lap_time - (a.lap_time - b.lap_time) * b.eps / (a.eps - b.eps);
+}
+
+// The honesty checks of the answer: why it is not converged, or "" when it is.
+std::string Verdict(const IndirectOptions& options, const Continuation& c,
+                    const SolveSummary& summary) {
+  const double worst = *std::max_element(summary.max_violation.begin(),
+                                         summary.max_violation.end());
   std::ostringstream why;
-  if (failed) why << "continuation failed at eps " << eps << "; ";
-  if (!(good_max_all <= 10.0 * options.residual_tolerance))
-    why << "residual " << good_max_all << "; ";
+  if (c.failed_eps > 0.0) why << "continuation failed at eps " << c.failed_eps << "; ";
+  if (!(c.max_all <= 10.0 * options.residual_tolerance)) why << "residual " << c.max_all << "; ";
   if (!(worst <= options.constraint_tolerance)) why << "constraint violated by " << worst << "; ";
-  if (summary->control_failures > 0)
-    why << summary->control_failures << " nodes without converged controls; ";
-  summary->message = why.str();
+  if (summary.control_failures > 0)
+    why << summary.control_failures << " points without converged controls; ";
+  return why.str();
+}
+
+}  // namespace
+
+LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
+                          const std::vector<double>& mesh,
+                          const std::vector<StateVector<double>>& x_guess,
+                          const std::vector<StateVector<double>>& lambda_guess,
+                          const std::vector<ControlVector<double>>& u_guess,
+                          const IndirectOptions& options, SolveSummary* summary) {
+  const auto start = std::chrono::steady_clock::now();
+  Transcription tr;
+  tr.v = &v;
+  tr.sc = DefaultScales(v);
+  tr.s = mesh;
+  tr.threads = options.num_threads;
+  Initialise(road, x_guess, lambda_guess, u_guess, &tr);
+  ceres::Problem::Options popts;
+  NodeCallback callback(&tr);
+  popts.evaluation_callback = &callback;
+  ceres::Problem problem(popts);
+  BuildProblem(&tr, &problem);
+
+  summary->steps.clear();
+  summary->iterations = 0;
+  const Continuation c = RunContinuation(options, &tr, &problem, summary);
+  if (!c.good.empty()) tr.weight = WeightFor(c.good.back().eps);
+  LapSolution sol = NodeSolution(v, tr, summary);
+  sol.eps = tr.weight.eps;
+  sol.lap_time_extrapolated = c.good.empty() ? sol.lap_time : Extrapolate(c.good);
+  summary->max_residual = c.max_all;
+  summary->max_state_defect = c.max_state;
+  summary->message = Verdict(options, c, *summary);
   summary->converged = summary->message.empty();
   summary->solve_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
