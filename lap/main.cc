@@ -46,7 +46,7 @@ void DefineOptions(CLI::App& app, Arguments& a) {
       ->check(CLI::IsMember({"indirect", "ipopt"}))
       ->capture_default_str();
   app.add_option("--max-iterations", a.max_iterations,
-                 "iteration limit: Ceres iterations per continuation step (indirect, default " +
+                 "iteration limit: Ceres iterations of the first continuation step (indirect, default " +
                      std::to_string(IndirectOptions{}.max_iterations) + ") or Ipopt iterations (ipopt, default " +
                      std::to_string(IpoptOptions{}.max_iterations) + ")")
       ->check(CLI::PositiveNumber);

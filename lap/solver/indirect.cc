@@ -229,6 +229,7 @@ Continuation RunContinuation(const IndirectOptions& options, Transcription* tr,
     const bool first = c.good.empty();
     tr->weight = WeightFor(eps);
     so.use_nonmonotonic_steps = first;
+    so.max_num_iterations = first ? options.max_iterations : options.max_step_iterations;
     so.initial_trust_region_radius = first ? 1e4 : 1e12;
     ceres::Solver::Summary cs;
     const auto t0 = std::chrono::steady_clock::now();
@@ -247,6 +248,7 @@ Continuation RunContinuation(const IndirectOptions& options, Transcription* tr,
     o << "eps " << eps << ": " << (step.converged ? "converged" : "FAILED") << " in "
       << step.iterations << " iterations, " << step.seconds << " s, lap " << step.lap_time
       << " s, max residual " << max_all;
+    if (!step.converged) o << " (" << cs.message << ")";
     Log(LogKind::kInfo, o.str());
     if (step.converged) {
       c.good.push_back(step);
@@ -257,6 +259,7 @@ Continuation RunContinuation(const IndirectOptions& options, Transcription* tr,
       retries = 0;
       for (NodeData& d : tr->mids) d.u_start = d.u;
       if (eps <= options.eps_end * (1 + 1e-12)) break;
+      factor = std::max(options.eps_factor, factor * factor);  // back towards the full step
       eps = std::max(options.eps_end, eps * factor);
       continue;
     }

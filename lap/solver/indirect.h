@@ -18,11 +18,14 @@
 namespace ttz::lap {
 
 struct IndirectOptions {
-  double eps_start = 0.1;        // first barrier weight [1]
+  double eps_start = 1.0;        // first barrier weight [1]: 0.1 stalls the first solve on roads
+                                 // with bends, 1 converges (docs/lap.md)
   double eps_end = 1e-4;         // last barrier weight [1]
   double eps_factor = 0.7;       // eps_{k+1} = factor eps_k; halved in log on a failed step
   int max_retries = 4;           // failed continuation steps retried with a smaller factor
-  int max_iterations = 300;      // Ceres iterations per continuation step
+  int max_iterations = 300;      // Ceres iterations of the first continuation step
+  int max_step_iterations = 60;  // of each later step (Newton from the last step: 5-15 when it
+                                 // converges, and slow linear progress when it will not)
   double residual_tolerance = 1e-9;  // Ceres stops at ||residual|| <= this; a step must reach max 10x this
   double constraint_tolerance = 1e-4;  // largest allowed g_j > 0 (relative) in the answer
   int num_threads = 2;           // for the node evaluations and Ceres

@@ -28,9 +28,11 @@ bool ControlDerivatives(const Vehicle& v, const Scales& sc, const RoadPoint& roa
 }
 
 // Damped Newton on H_u = 0 from us (a minimum of H: steps along the positive definite part of
-// H_uu with a backtracking line search that accepts a decrease of H or, near the minimum where
-// H stops changing in floating point, of |H_u|). Converged when the Newton step is below 1e-10,
-// or below 1e-7 when no trial decreases H any more (the rounding floor of H_u).
+// H_uu with a backtracking line search on H). Near the minimum, where H stops changing in floating
+// point long before H_u does, a step is accepted when it reduces |H_u|: the residuals of the
+// transcription are linear in the error of u*, so u* must be found to the rounding floor of H_u,
+// not of H. Converged when the Newton step is below 1e-12, or below 1e-9 when no trial reduces
+// |H_u| any more.
 bool MinimiseOverControls(const Vehicle& v, const Scales& sc, const RoadPoint& road,
                           const BarrierWeight& w, const StateVector<double>& xs,
                           const StateVector<double>& lambda, ControlVector<double>* us) {
@@ -45,7 +47,7 @@ bool MinimiseOverControls(const Vehicle& v, const Scales& sc, const RoadPoint& r
     const Eigen::Vector2d step =
         -(eig.eigenvectors() * lam.cwiseInverse().asDiagonal() * eig.eigenvectors().transpose()) * Hu;
     const double size = step.lpNorm<Eigen::Infinity>();
-    if (size < 1e-10) return eig.eigenvalues().minCoeff() > 0.0;
+    if (size < 1e-12) return eig.eigenvalues().minCoeff() > 0.0;
     double alpha = 1.0;
     bool accepted = false;
     for (int ls = 0; ls < 40 && !accepted; ++ls, alpha *= 0.5) {
@@ -54,7 +56,8 @@ bool MinimiseOverControls(const Vehicle& v, const Scales& sc, const RoadPoint& r
       Eigen::Vector2d Hut;
       Eigen::Matrix2d Huut;
       if (!ControlDerivatives(v, sc, road, w, xs, lambda, trial, &Ht, &Hut, &Huut)) continue;
-      if (Ht < H + 1e-4 * alpha * Hu.dot(step) || (Ht <= H && Hut.norm() < Hu.norm())) {
+      const bool near = size < 1e-6 && Hut.norm() < Hu.norm();
+      if (Ht < H + 1e-4 * alpha * Hu.dot(step) || near) {
         *us = trial;
         H = Ht;
         Hu = Hut;
@@ -62,8 +65,8 @@ bool MinimiseOverControls(const Vehicle& v, const Scales& sc, const RoadPoint& r
         accepted = true;
       }
     }
-    // No decrease left: at the rounding floor of H if the Newton step was already tiny.
-    if (!accepted) return size < 1e-7 && eig.eigenvalues().minCoeff() > 0.0;
+    // No decrease left: at the rounding floor of H_u if the Newton step was already tiny.
+    if (!accepted) return size < 1e-9 && eig.eigenvalues().minCoeff() > 0.0;
   }
   return false;
 }
