@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "common/artefact.h"
+#include "common/command_line.h"
 #include "common/error.h"
 #include "common/log.h"
 #include "common/road_artefact.h"
@@ -160,27 +161,12 @@ int Run(const Arguments& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  ttz::SetLogTool("lap");
   CLI::App app{"lap: minimum-lap-time optimal control of an electric motorcycle on a road (paper eq. 9-39)"};
   Arguments arguments;
   DefineOptions(app, arguments);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    ttz::Log(ttz::LogKind::kError, std::string(e.what()) + " (see lap --help)");
-    return ttz::kExitBadInput;
-  }
-  if (arguments.quiet) ttz::SetLogLevel(1);
-  if (arguments.verbose) ttz::SetLogLevel(3);
-  try {
+  return ttz::RunCommandLine("lap", app, argc, argv, [&] {
+    if (arguments.quiet) ttz::SetLogLevel(1);
+    if (arguments.verbose) ttz::SetLogLevel(3);
     return Run(arguments);
-  } catch (const ttz::InputError& e) {
-    ttz::Log(ttz::LogKind::kError, e.what());
-    return ttz::kExitBadInput;
-  } catch (const std::exception& e) {
-    ttz::Log(ttz::LogKind::kError, e.what());
-    return ttz::kExitOther;
-  }
+  });
 }

@@ -12,6 +12,7 @@
 #include "lap/model/dynamics.h"
 #include "lap/qss.h"
 #include "lap/solver/ipopt_direct.h"
+#include "lap/testing/synthetic_road.h"
 
 namespace ttz::lap {
 namespace {
@@ -21,15 +22,7 @@ const Vehicle& Bike() {
   return v;
 }
 
-RoadArtefact StraightRoad(double length) {
-  RoadArtefact r;
-  for (int i = 0; i <= static_cast<int>(length); ++i) {
-    r.s.push_back(i);
-    for (auto* f : {&r.kappa, &r.nu, &r.tau, &r.sigma}) f->push_back(0.0);
-    r.width.push_back(8.0);
-  }
-  return r;
-}
+using testing::StraightRoad;
 
 // The wheel torque of the hand-made lap, linear in s [N m]: the re-simulation's piecewise-linear
 // controls reproduce it exactly.

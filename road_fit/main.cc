@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "common/command_line.h"
 #include "common/error.h"
 #include "common/log.h"
 #include "common/road_artefact.h"
@@ -69,26 +70,11 @@ int Run(const Arguments& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  ttz::SetLogTool("road_fit");
   CLI::App app{"road_fit: fit a smooth 3-D road ribbon (paper eq. 4-8) to measured border points"};
   Arguments arguments;
   DefineOptions(app, arguments);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    ttz::Log(ttz::LogKind::kError, std::string(e.what()) + " (see road_fit --help)");
-    return ttz::kExitBadInput;
-  }
-  if (arguments.quiet) ttz::SetLogLevel(1);
-  try {
+  return ttz::RunCommandLine("road_fit", app, argc, argv, [&] {
+    if (arguments.quiet) ttz::SetLogLevel(1);
     return Run(arguments);
-  } catch (const ttz::InputError& e) {
-    ttz::Log(ttz::LogKind::kError, e.what());
-    return ttz::kExitBadInput;
-  } catch (const std::exception& e) {
-    ttz::Log(ttz::LogKind::kError, e.what());
-    return ttz::kExitOther;
-  }
+  });
 }

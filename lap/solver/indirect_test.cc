@@ -10,26 +10,12 @@
 
 #include "lap/bike.h"
 #include "lap/qss.h"
+#include "lap/testing/synthetic_road.h"
 
 namespace ttz::lap {
 namespace {
 
-// An 8 m wide level road of `length` metres; kappa_road(s) [1/m] as given.
-template <typename Curvature>
-RoadArtefact LevelRoad(double length, Curvature kappa) {
-  RoadArtefact r;
-  for (int i = 0; i <= static_cast<int>(length); ++i) {
-    r.s.push_back(i);
-    r.kappa.push_back(kappa(static_cast<double>(i)));
-    for (auto* f : {&r.nu, &r.tau, &r.sigma}) f->push_back(0.0);
-    r.width.push_back(8.0);
-  }
-  return r;
-}
-
-RoadArtefact StraightRoad(double length) {
-  return LevelRoad(length, [](double) { return 0.0; });
-}
+using testing::StraightRoad;
 
 TEST(IndirectTest, StraightLevelRoadFromAStandingStart) {
   const Vehicle v = MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml"));
@@ -60,10 +46,11 @@ TEST(IndirectTest, StraightLevelRoadFromAStandingStart) {
 // 1e-7 floor were the causes.
 TEST(IndirectTest, BendConvergesDownToABarrierWeightOfOneTenth) {
   const Vehicle v = MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml"));
-  const RoadTrack road(LevelRoad(300.0, [](double s) {
+  const auto bend = [](double s) {
     return std::min({1.0, std::max(0.0, (s - 100.0) / 20.0), std::max(0.0, (220.0 - s) / 20.0)}) /
            50.0;
-  }));
+  };
+  const RoadTrack road(testing::SyntheticRoad(300.0, 8.0, bend, testing::Zero));
   const std::vector<double> mesh = UniformMesh(road.Length(), 2.0);
   const QssLap qss = ComputeQss(v, road, mesh);
   IndirectOptions options;
