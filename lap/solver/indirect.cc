@@ -5,109 +5,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <memory>
 #include <sstream>
-#include <thread>
 
 #include "common/log.h"
 #include "lap/solver/node.h"
+#include "lap/solver/transcription.h"
 
 namespace ttz::lap {
 namespace {
-
-constexpr int kW = 2 * kNumStates;  // unknowns per node: scaled states and costates
-
-// The discretised necessary conditions: unknowns at the nodes, the Hamiltonian's evaluations at
-// the interval midpoints (one control per interval) and the barrier weight.
-struct Transcription {
-  const Vehicle* v;
-  Scales sc;
-  std::vector<RoadPoint> road;  // at the interval midpoints
-  std::vector<double> s;        // nodes
-  std::vector<double> w;  // (N + 1) x kW: [x~_k, lambda~_k]
-  std::vector<NodeData> mids;   // N interval midpoints
-  BarrierWeight weight{};  // set by the continuation before each solve
-  int threads = 1;
-  bool all_valid = false;
-
-  int NumNodes() const { return static_cast<int>(s.size()); }
-  double* W(int k) { return w.data() + k * kW; }
-  double H(int k) const { return s[k + 1] - s[k]; }
-
-  void EvaluateMids(bool jacobians) {
-    auto work = [&](int first, int last) {
-      for (int k = first; k < last; ++k) {
-        StateVector<double> xs, ls;
-        for (int i = 0; i < kNumStates; ++i) {
-          xs[i] = 0.5 * (W(k)[i] + W(k + 1)[i]);
-          ls[i] = 0.5 * (W(k)[kNumStates + i] + W(k + 1)[kNumStates + i]);
-        }
-        EvaluateNode(*v, sc, road[k], weight, xs, ls, jacobians, &mids[k]);
-      }
-    };
-    const int n = NumNodes() - 1, parts = std::max(1, threads);
-    std::vector<std::thread> pool;
-    for (int p = 1; p < parts; ++p) pool.emplace_back(work, n * p / parts, n * (p + 1) / parts);
-    work(0, n / parts);
-    for (auto& t : pool) t.join();
-    all_valid = std::all_of(mids.begin(), mids.end(), [](const NodeData& d) { return d.valid; });
-  }
-
-  double LapTime() const {
-    double t = 0.0;
-    for (int k = 0; k + 1 < NumNodes(); ++k) t += H(k) * mids[k].dt_ds;
-    return t;
-  }
-};
-
-// Ceres calls this before evaluating residuals at a new point: every midpoint is evaluated once.
-class NodeCallback : public ceres::EvaluationCallback {
- public:
-  explicit NodeCallback(Transcription* tr) : tr_(tr) {}
-  void PrepareForEvaluation(bool evaluate_jacobians, bool) final {
-    tr_->EvaluateMids(evaluate_jacobians);
-  }
-
- private:
-  Transcription* tr_;
-};
-
-// Implicit-midpoint collocation of the states and costates on interval [k, k+1], with one control
-// per interval, u* at the midpoint (x~, lambda~)_{k+1/2} = (w_k + w_{k+1}) / 2:
-//   x~_{k+1} - x~_k - h F_{k+1/2} = 0,  lambda~_{k+1} - lambda~_k + h G_{k+1/2} = 0.
-// The trapezoidal rule with controls at the nodes sees only the mean of two neighbouring controls,
-// so an alternating (odd-even) pattern of controls changes no defect: on the fast wheel-spin and
-// roll modes that null direction left Newton stalled. The midpoint rule has no such direction, and
-// it is symplectic: these costate equations are the exact adjoint of its state equations.
-class IntervalResidual : public ceres::SizedCostFunction<kW, kW, kW> {
- public:
-  IntervalResidual(const Transcription* tr, int k) : tr_(tr), k_(k) {}
-  bool Evaluate(const double* const* p, double* r, double** J) const final {
-    const NodeData& d = tr_->mids[k_];
-    if (!d.valid) return false;
-    const double h = tr_->H(k_);
-    for (int i = 0; i < kNumStates; ++i) {
-      r[i] = p[1][i] - p[0][i] - h * d.F(i);
-      r[kNumStates + i] = p[1][kNumStates + i] - p[0][kNumStates + i] + h * d.G(i);
-    }
-    if (J == nullptr) return true;
-    for (int side = 0; side < 2; ++side) {
-      if (J[side] == nullptr) continue;
-      const double sign = side == 0 ? -1.0 : 1.0;
-      Eigen::Map<Eigen::Matrix<double, kW, kW, Eigen::RowMajor>> M(J[side]);
-      M.topLeftCorner<kNumStates, kNumStates>() = -0.5 * h * d.dF_dx;
-      M.topRightCorner<kNumStates, kNumStates>() = -0.5 * h * d.dF_dl;
-      M.bottomLeftCorner<kNumStates, kNumStates>() = 0.5 * h * d.dG_dx;
-      M.bottomRightCorner<kNumStates, kNumStates>() = 0.5 * h * d.dG_dl;
-      M.diagonal().array() += sign;
-    }
-    return true;
-  }
-
- private:
-  const Transcription* tr_;
-  int k_;
-};
 
 // Stops Ceres once the residual norm is below the tolerance.
 class StopAtTolerance : public ceres::IterationCallback {
@@ -138,58 +43,6 @@ class AcceptControls : public ceres::IterationCallback {
 
 // The barrier weight eps with its relaxation delta = min(1e-3, 0.1 eps) (lap-solver notes).
 BarrierWeight WeightFor(double eps) { return {eps, std::min(1e-3, 0.1 * eps)}; }
-
-// Largest |residual| of the system at the current unknowns (state part and all).
-void ResidualLevels(Transcription* tr, double* max_all, double* max_state) {
-  tr->EvaluateMids(false);
-  *max_all = *max_state = tr->all_valid ? 0.0 : HUGE_VAL;
-  if (!tr->all_valid) return;
-  for (int k = 0; k + 1 < tr->NumNodes(); ++k) {
-    IntervalResidual res(tr, k);
-    double r[kW];
-    const double* p[2] = {tr->W(k), tr->W(k + 1)};
-    res.Evaluate(p, r, nullptr);
-    for (int i = 0; i < kW; ++i) {
-      *max_all = std::max(*max_all, std::abs(r[i]));
-      if (i < kNumStates) *max_state = std::max(*max_state, std::abs(r[i]));
-    }
-  }
-}
-
-// Unknowns from the guess: scaled states and costates at the nodes, control starts at the midpoints.
-void Initialise(const RoadTrack& road, const std::vector<StateVector<double>>& x_guess,
-                const std::vector<StateVector<double>>& lambda_guess,
-                const std::vector<ControlVector<double>>& u_guess, Transcription* tr) {
-  const int n = tr->NumNodes();
-  tr->road.resize(n - 1);
-  tr->mids.resize(n - 1);
-  tr->w.assign(static_cast<size_t>(n) * kW, 0.0);
-  for (int k = 0; k < n; ++k)
-    for (int i = 0; i < kNumStates; ++i) {
-      tr->W(k)[i] = x_guess[k][i] / tr->sc.state[i];
-      tr->W(k)[kNumStates + i] = lambda_guess.empty() ? 0.0 : lambda_guess[k][i];
-    }
-  for (int k = 0; k + 1 < n; ++k) {
-    tr->road[k] = road.At(0.5 * (tr->s[k] + tr->s[k + 1]));
-    for (int i = 0; i < kNumControls; ++i)
-      tr->mids[k].u_start[i] = 0.5 * (u_guess[k][i] + u_guess[k + 1][i]) / tr->sc.control[i];
-  }
-}
-
-// One residual block per interval; x(0) and lambda(s_f) = 0 held by SubsetManifolds.
-void BuildProblem(Transcription* tr, ceres::Problem* problem) {
-  const int n = tr->NumNodes();
-  for (int k = 0; k + 1 < n; ++k)
-    problem->AddResidualBlock(new IntervalResidual(tr, k), nullptr, tr->W(k), tr->W(k + 1));
-  std::vector<int> first_states(kNumStates), last_costates(kNumStates);
-  for (int i = 0; i < kNumStates; ++i) {
-    first_states[i] = i;
-    last_costates[i] = kNumStates + i;
-  }
-  problem->SetManifold(tr->W(0), new ceres::SubsetManifold(kW, first_states));
-  for (int i = kNumStates; i < kW; ++i) tr->W(n - 1)[i] = 0.0;
-  problem->SetManifold(tr->W(n - 1), new ceres::SubsetManifold(kW, last_costates));
-}
 
 ceres::Solver::Options CeresOptions(const IndirectOptions& options) {
   ceres::Solver::Options so;
@@ -351,14 +204,10 @@ LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
                           const std::vector<ControlVector<double>>& u_guess,
                           const IndirectOptions& options, SolveSummary* summary) {
   const auto start = std::chrono::steady_clock::now();
-  Transcription tr;
-  tr.v = &v;
-  tr.sc = DefaultScales(v);
-  tr.s = mesh;
-  tr.threads = options.num_threads;
-  Initialise(road, x_guess, lambda_guess, u_guess, &tr);
+  Transcription tr =
+      MakeTranscription(v, road, mesh, x_guess, lambda_guess, u_guess, options.num_threads);
   ceres::Problem::Options popts;
-  NodeCallback callback(&tr);
+  MidpointCallback callback(&tr);
   popts.evaluation_callback = &callback;
   ceres::Problem problem(popts);
   BuildProblem(&tr, &problem);

@@ -1,0 +1,114 @@
+#include "lap/solver/transcription.h"
+
+#include <algorithm>
+#include <cmath>
+#include <thread>
+
+namespace ttz::lap {
+
+void Transcription::EvaluateMids(bool jacobians) {
+  auto work = [&](int first, int last) {
+    for (int k = first; k < last; ++k) {
+      StateVector<double> xs, ls;
+      for (int i = 0; i < kNumStates; ++i) {
+        xs[i] = 0.5 * (W(k)[i] + W(k + 1)[i]);
+        ls[i] = 0.5 * (W(k)[kNumStates + i] + W(k + 1)[kNumStates + i]);
+      }
+      EvaluateNode(*v, sc, road[k], weight, xs, ls, jacobians, &mids[k]);
+    }
+  };
+  const int n = NumNodes() - 1, parts = std::max(1, threads);
+  std::vector<std::thread> pool;
+  for (int p = 1; p < parts; ++p) pool.emplace_back(work, n * p / parts, n * (p + 1) / parts);
+  work(0, n / parts);
+  for (auto& t : pool) t.join();
+  all_valid = std::all_of(mids.begin(), mids.end(), [](const NodeData& d) { return d.valid; });
+}
+
+double Transcription::LapTime() const {
+  double t = 0.0;
+  for (int k = 0; k + 1 < NumNodes(); ++k) t += H(k) * mids[k].dt_ds;
+  return t;
+}
+
+Transcription MakeTranscription(const Vehicle& v, const RoadTrack& road,
+                                const std::vector<double>& mesh,
+                                const std::vector<StateVector<double>>& x_guess,
+                                const std::vector<StateVector<double>>& lambda_guess,
+                                const std::vector<ControlVector<double>>& u_guess, int threads) {
+  Transcription tr;
+  tr.v = &v;
+  tr.sc = DefaultScales(v);
+  tr.s = mesh;
+  tr.threads = threads;
+  const int n = tr.NumNodes();
+  tr.road.resize(n - 1);
+  tr.mids.resize(n - 1);
+  tr.w.assign(static_cast<size_t>(n) * kW, 0.0);
+  for (int k = 0; k < n; ++k)
+    for (int i = 0; i < kNumStates; ++i) {
+      tr.W(k)[i] = x_guess[k][i] / tr.sc.state[i];
+      tr.W(k)[kNumStates + i] = lambda_guess.empty() ? 0.0 : lambda_guess[k][i];
+    }
+  for (int k = 0; k + 1 < n; ++k) {
+    tr.road[k] = road.At(0.5 * (mesh[k] + mesh[k + 1]));
+    for (int i = 0; i < kNumControls; ++i)
+      tr.mids[k].u_start[i] = 0.5 * (u_guess[k][i] + u_guess[k + 1][i]) / tr.sc.control[i];
+  }
+  return tr;
+}
+
+bool IntervalResidual::Evaluate(const double* const* p, double* r, double** J) const {
+  const NodeData& d = tr_->mids[k_];
+  if (!d.valid) return false;
+  const double h = tr_->H(k_);
+  for (int i = 0; i < kNumStates; ++i) {
+    r[i] = p[1][i] - p[0][i] - h * d.F(i);
+    r[kNumStates + i] = p[1][kNumStates + i] - p[0][kNumStates + i] + h * d.G(i);
+  }
+  if (J == nullptr) return true;
+  // Both nodes enter the midpoint with weight 1/2.
+  for (int side = 0; side < 2; ++side) {
+    if (J[side] == nullptr) continue;
+    const double sign = side == 0 ? -1.0 : 1.0;
+    Eigen::Map<Eigen::Matrix<double, kW, kW, Eigen::RowMajor>> M(J[side]);
+    M.topLeftCorner<kNumStates, kNumStates>() = -0.5 * h * d.dF_dx;
+    M.topRightCorner<kNumStates, kNumStates>() = -0.5 * h * d.dF_dl;
+    M.bottomLeftCorner<kNumStates, kNumStates>() = 0.5 * h * d.dG_dx;
+    M.bottomRightCorner<kNumStates, kNumStates>() = 0.5 * h * d.dG_dl;
+    M.diagonal().array() += sign;
+  }
+  return true;
+}
+
+void BuildProblem(Transcription* tr, ceres::Problem* problem) {
+  const int n = tr->NumNodes();
+  for (int k = 0; k + 1 < n; ++k)
+    problem->AddResidualBlock(new IntervalResidual(tr, k), nullptr, tr->W(k), tr->W(k + 1));
+  std::vector<int> first_states(kNumStates), last_costates(kNumStates);
+  for (int i = 0; i < kNumStates; ++i) {
+    first_states[i] = i;
+    last_costates[i] = kNumStates + i;
+  }
+  problem->SetManifold(tr->W(0), new ceres::SubsetManifold(kW, first_states));
+  for (int i = kNumStates; i < kW; ++i) tr->W(n - 1)[i] = 0.0;
+  problem->SetManifold(tr->W(n - 1), new ceres::SubsetManifold(kW, last_costates));
+}
+
+void ResidualLevels(Transcription* tr, double* max_all, double* max_state) {
+  tr->EvaluateMids(false);
+  *max_all = *max_state = tr->all_valid ? 0.0 : HUGE_VAL;
+  if (!tr->all_valid) return;
+  for (int k = 0; k + 1 < tr->NumNodes(); ++k) {
+    IntervalResidual res(tr, k);
+    double r[kW];
+    const double* p[2] = {tr->W(k), tr->W(k + 1)};
+    res.Evaluate(p, r, nullptr);
+    for (int i = 0; i < kW; ++i) {
+      *max_all = std::max(*max_all, std::abs(r[i]));
+      if (i < kNumStates) *max_state = std::max(*max_state, std::abs(r[i]));
+    }
+  }
+}
+
+}  // namespace ttz::lap

@@ -1,0 +1,66 @@
+// The interval residual blocks of the midpoint transcription: their Jacobians (assembled from each
+// midpoint's total derivatives through u*) against central differences of the residuals, with the
+// midpoints re-evaluated at every perturbed point, on a road with a bend and a slope.
+#include "lap/solver/transcription.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "lap/bike.h"
+#include "lap/qss.h"
+#include "lap/testing/synthetic_road.h"
+
+namespace ttz::lap {
+namespace {
+
+std::array<double, kW> Residual(Transcription* tr, int k) {
+  std::array<double, kW> r{};
+  const double* p[2] = {tr->W(k), tr->W(k + 1)};
+  IntervalResidual(tr, k).Evaluate(p, r.data(), nullptr);
+  return r;
+}
+
+TEST(TranscriptionTest, IntervalJacobiansMatchCentralDifferences) {
+  const Vehicle v = MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml"));
+  const RoadTrack road(testing::SyntheticRoad(
+      60.0, 8.0, [](double s) { return s > 20.0 ? 0.02 : 0.0; }, [](double) { return 0.03; }));
+  const std::vector<double> mesh = UniformMesh(road.Length(), 2.0);
+  const QssLap qss = ComputeQss(v, road, mesh);
+  std::vector<StateVector<double>> lambda(mesh.size());
+  for (size_t k = 0; k < mesh.size(); ++k)
+    for (int i = 0; i < kNumStates; ++i) lambda[k][i] = 0.01 * std::sin(1.0 + k + 3.0 * i);
+  Transcription tr = MakeTranscription(v, road, mesh, qss.x, lambda, qss.u, 1);
+  tr.weight = {0.1, 1e-3};
+  for (int k : {0, 12, 28}) {
+    tr.EvaluateMids(true);
+    ASSERT_TRUE(tr.all_valid);
+    std::array<double, 2 * kW * kW> jac{};
+    double* J[2] = {jac.data(), jac.data() + kW * kW};
+    std::array<double, kW> r{};
+    const double* p[2] = {tr.W(k), tr.W(k + 1)};
+    ASSERT_TRUE(IntervalResidual(&tr, k).Evaluate(p, r.data(), J));
+    for (int side = 0; side < 2; ++side)
+      for (int j = 0; j < kW; ++j) {
+        double* x = tr.W(k + side) + j;
+        const double x0 = *x, step = 1e-6;
+        *x = x0 + step;
+        tr.EvaluateMids(false);
+        const std::array<double, kW> rp = Residual(&tr, k);
+        *x = x0 - step;
+        tr.EvaluateMids(false);
+        const std::array<double, kW> rm = Residual(&tr, k);
+        *x = x0;
+        for (int i = 0; i < kW; ++i) {
+          const double fd = (rp[i] - rm[i]) / (2.0 * step);
+          const double an = J[side][i * kW + j];
+          EXPECT_NEAR(an, fd, 1e-5 + 1e-4 * std::abs(fd))
+              << "interval " << k << " side " << side << " residual " << i << " unknown " << j;
+        }
+      }
+  }
+}
+
+}  // namespace
+}  // namespace ttz::lap
