@@ -128,7 +128,7 @@ int Run(const Arguments& a) {
   const BikeParams bike = LoadBike(a.bike, a.overrides);
   CheckRoadFitsBike(road, a.road, bike);
   const Vehicle v = MakeVehicle(bike);
-  const RoadTrack track(road);
+  const RoadTrack track(road, a.road);
   const std::string road_sha256 = ttz::FileSha256(a.road);
   const std::vector<double> mesh = UniformMesh(track.Length(), a.ds_m);
   const QssLap qss = ComputeQss(v, track, mesh);

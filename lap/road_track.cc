@@ -3,13 +3,22 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/error.h"
+
 namespace ttz::lap {
 
-RoadTrack::RoadTrack(const RoadArtefact& road)
+RoadTrack::RoadTrack(const RoadArtefact& road, const std::string& name)
     : kappa_(road.kappa), nu_(road.nu), tau_(road.tau), sigma_(road.sigma), width_(road.width),
       closed_(road.closed) {
-  for (double& k : kappa_) k = -k;  // road.h5: left turn positive; model: right turn positive
+  const size_t n = road.s.size();
+  if (n < 2) throw InputError(name, "dataset 's' has " + std::to_string(n) + " samples, at least 2 expected");
   ds_ = road.s[1] - road.s[0];
+  for (size_t i = 1; i < n; ++i)
+    if (!(std::abs(road.s[i] - road.s[i - 1] - ds_) <= 1e-6 * ds_))
+      throw InputError(name, "dataset 's' is not uniformly spaced at sample " + std::to_string(i) +
+                                 " (step " + std::to_string(road.s[i] - road.s[i - 1]) + " m, " +
+                                 std::to_string(ds_) + " m expected, as road_fit writes it)");
+  for (double& k : kappa_) k = -k;  // road.h5: left turn positive; model: right turn positive
   length_ = road.s.back() - road.s.front();
 }
 

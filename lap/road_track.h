@@ -3,6 +3,7 @@
 // (lap/model/state.h: kappa changes sign, nu, tau and sigma do not).
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "common/road_artefact.h"
@@ -12,7 +13,10 @@ namespace ttz::lap {
 
 class RoadTrack {
  public:
-  explicit RoadTrack(const RoadArtefact& road);
+  // Throws ttz::InputError naming `name` (the road file) unless the road has at least two
+  // samples uniformly spaced in s (road_fit writes them so); s is taken relative to its first
+  // sample.
+  explicit RoadTrack(const RoadArtefact& road, const std::string& name = "road");
 
   // The road at arc length s in [0, Length()] (clamped).
   RoadPoint At(double s) const;
