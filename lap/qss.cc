@@ -13,13 +13,12 @@
 //   sideslip in a bend, the wheel's spin-up torque (eq. 16).
 // - Speed step V_{i+1}^2 = V_i^2 + 2 h a_{i+1} with the acceleration a_{i+1} of the interval's end,
 //   and T, e likewise with the end's rates: along an acceleration the limit falls with speed, heat
-//   and discharge, so the step stays below the true profile, and the solvers' trapezoidal rule
+//   and discharge, so the step stays below the true profile, and the trapezoidal rule
 //   V_{k+1} - V_k = h/2 (a_k / V_k + a_{k+1} / V_{k+1}) gains more speed from the same a.
 // - Braking to the later speed caps with the braking limit of each interval's slower end.
-// - Lap time by the solvers' trapezoidal rule of 1/V (eq. 38). The time of a constant acceleration,
-//   2 h / (V_i + V_{i+1}), is shorter, so a QSS timed by it could beat the solvers' time of the
-//   same profile. (The solvers integrate 1/sdot; sdot = V sqrt(1 + beta^2) >= V on the centre
-//   line.)
+// - Lap time by the trapezoidal rule of 1/V (eq. 38), the longer of the two usual rules (1/V is
+//   convex): the solvers' midpoint rule times an interval by 1/sdot at the mean state, about
+//   2 h / (V_i + V_{i+1}) on the centre line, so the QSS time of a profile is never the shorter.
 // - Speed caps from the adherence, the yaw rate and the roll rate (SpeedCap), each at kSafety of
 //   its limit; the pack's power capped so that its energy stays >= 0 (eq. 39g), all but the
 //   ~50 W the smoothed motor current draws with the throttle shut (StepForward).

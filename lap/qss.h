@@ -22,7 +22,7 @@ struct QssLap {
   std::vector<StateVector<double>> x;      // model states along the profile; x[0] is the bike's
                                            // initial state (V0, T0, e0)
   std::vector<ControlVector<double>> u;    // controls (yaw rate, wheel torque)
-  double lap_time = 0.0;                   // [s], by the solvers' rule (eq. 38, trapezoidal)
+  double lap_time = 0.0;                   // [s], trapezoidal rule of 1/V (eq. 38; qss.cc)
 };
 
 // Largest traction force tau_w / R_e [N] that the power train gives on a straight level road at

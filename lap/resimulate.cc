@@ -42,7 +42,7 @@ constexpr int kMaxStepsPerInterval = 10000;
 constexpr double kEnergyFloor = 0.01;
 
 // dy/ds on mesh interval k: x' (eq. 36-37) and t' = 1 / sdot (eq. 38), with the controls linear
-// in s between u_k and u_{k+1} (the trapezoidal collocation's reading, resimulate.h).
+// in s between u_k and u_{k+1} (resimulate.h says why).
 class Slope {
  public:
   Slope(const Vehicle& v, const RoadTrack& road, const LapSolution& sol) : v_(v), road_(road), sol_(sol) {}

@@ -4,13 +4,11 @@
 //
 // What is integrated: x' = dx/ds = f(x, u(s), road(s)) (eq. 36-37, lap/model/dynamics.h) and
 // t' = 1 / sdot (eq. 38, sdot from eq. 10a), with
-// - the controls piecewise linear in s between the nodes. The trapezoidal collocation (the Ipopt
-//   oracle, lap/solver/ipopt_direct.h: x_{k+1} - x_k = h_k / 2 (f(x_k, u_k) + f(x_{k+1}, u_{k+1})))
-//   has the controls at the nodes only and weighs each interval by the mean of its two end
-//   values, which is exact for controls linear over the interval; any other reading (held,
-//   cubic) would add an error of its own. A transcription with one control per interval (the
-//   implicit midpoint rule) would be read with that control held over the interval, which
-//   LapSolution does not carry: its node controls are read as above.
+// - the controls piecewise linear in s through the solution's node values. Both solvers use the
+//   implicit midpoint rule with one control per interval (lap/solver/transcription.h); a
+//   LapSolution reports at each node the mean of its two intervals' controls, so this reading
+//   is a second-order approximation of the held interval controls, not their exact reading
+//   (carrying the interval controls in LapSolution would make it exact).
 // - the road evaluated at every stage by RoadTrack::At;
 // - the adaptive Dormand-Prince 5(4) pair, each mesh interval in at least `min_substeps` steps
 //   ending on its nodes (the controls' kinks). Adaptive because the model is stiff: the wheel's

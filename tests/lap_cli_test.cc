@@ -160,8 +160,7 @@ TEST_F(LapCli, AStraightRoadSolvesWritesLapH5AndWarmStartsTheNextSolve) {
                  lap + ": is a lap of another road", "other.h5");
 }
 
-// A 1 m mesh: on coarser ones the trapezoidal rule of the oracle misjudges the time of the launch
-// from 5 m/s by more than the re-simulation's 0.1 % (next test).
+// The oracle's answer warm-starts the indirect solver (both use the midpoint rule on the same mesh).
 TEST_F(LapCli, TheIpoptOracleSolvesAndWarmStartsTheIndirectSolver) {
   const std::string road = Road("straight100.h5", StraightRoad(100.0));
   const CliRun ipopt = Lap(road + " " + kBike + " --ds 1 -q --solver ipopt", "ipopt.h5");
@@ -185,22 +184,22 @@ TEST_F(LapCli, TheIpoptOracleSolvesAndWarmStartsTheIndirectSolver) {
 
 // The oracle on a 4 m mesh converges, but its lap time is 0.67 % longer than the re-simulated
 // one (the launch from 5 m/s): not trustworthy.
+// On a 20 m mesh the oracle converges, but its states between nodes are too coarse: the
+// re-simulation differs by more than 0.1 % (the wheel spin, measured 0.14 %) and the run exits 3.
 TEST_F(LapCli, AConvergedSolveThatFailsTheReSimulationExits3) {
   const std::string road = Road("straight100.h5", StraightRoad(100.0));
-  const CliRun run = Lap(road + " " + kBike + " --ds 4 -q --solver ipopt");
+  const CliRun run = Lap(road + " " + kBike + " --ds 20 -q --solver ipopt");
   EXPECT_EQ(run.exit_code, 3) << run.stderr_text;
   EXPECT_EQ(std::count(run.stderr_text.begin(), run.stderr_text.end(), '\n'), 1) << run.stderr_text;
-  EXPECT_NE(run.stderr_text.find("the solution failed its re-simulation check (re-simulated lap time differs by"),
-            std::string::npos)
+  EXPECT_NE(run.stderr_text.find("the solution failed its re-simulation check ("), std::string::npos)
       << run.stderr_text;
-  EXPECT_TRUE(std::regex_search(run.stdout_text, std::regex("re-simulation  lap time differs by 0\\.[0-9]+ %, "
+  EXPECT_TRUE(std::regex_search(run.stdout_text, std::regex("re-simulation  lap time differs by [0-9.]+ %, "
                                                             "states by [0-9.]+ % \\(failed\\)\n")))
       << run.stdout_text;
   const ttz::ArtefactReader r(Path("lap.h5"), "ttz.lap", 1);
   EXPECT_FALSE(r.ReadBoolAttribute("converged"));
   EXPECT_FALSE(r.ReadBoolAttribute("resim_passed"));
-  EXPECT_GT(r.ReadDoubleAttribute("resim_lap_time_relative"), 1e-3);
-  EXPECT_LT(r.ReadDoubleAttribute("resim_lap_time_difference"), 0.0);
+  EXPECT_GT(r.ReadDoubleAttribute("resim_max_state_difference"), 1e-3);
   EXPECT_EQ(r.ReadStringAttribute("message"), r.ReadStringAttribute("resim_message"));
 }
 

@@ -1,13 +1,14 @@
-// One mesh node of the direct transcription (lap/solver/ipopt_direct.h): at the node's scaled
-// states and controls z = (x~, u~) = (x / S, u / S_u), the quantities the transcription is built
-// from,
+// One interval midpoint of the direct transcription (lap/solver/ipopt_direct.h): at the
+// midpoint's scaled states and the interval's controls z = (x~, u~) = (x / S, u / S_u), the
+// quantities the transcription is built from,
 //
 //   y(z) = ( x~' = x' / S  (eq. 36-37, lap/model/dynamics.h),
 //            1 / sdot      (the time per metre of the objective, eq. 37-38),
 //            g_j(x, u)     (eq. 39a-g, the voltage limits and the brake bound, constraints.h) ),
 //
 // their Jacobian dy/dz by Jets, and the Hessian of any weighted sum w^T y by nested Jets (the
-// node's share of the Hessian of the Lagrangian).
+// interval's share of the Hessian of the Lagrangian, before the chain factors of
+// x~_mid = (x~_k + x~_{k+1}) / 2).
 #pragma once
 
 #include <Eigen/Core>
@@ -32,7 +33,7 @@ using NodeOutputs = Eigen::Matrix<double, kNumNodeOutputs, 1>;
 using NodeJacobian = Eigen::Matrix<double, kNumNodeOutputs, kNodeVars, Eigen::RowMajor>;
 using NodeHessian = Eigen::Matrix<double, kNodeVars, kNodeVars>;
 
-// The model's data at one node.
+// The model's data at one point (the road at the interval midpoint s_{k+1/2}).
 struct DirectNode {
   const Vehicle* v;
   Scales sc;

@@ -1,5 +1,5 @@
 // The indirect solver of the minimum-lap-time problem (eq. 38) by Ceres: the necessary conditions
-// of the barrier-penalised problem, transcribed with the trapezoidal rule on an arc-length mesh, as
+// of the barrier-penalised problem, transcribed with the implicit midpoint rule on an arc-length mesh (transcription.h), as
 // a square residual system in the states and costates of every node (controls eliminated per node,
 // lap/solver/node.h), solved by Levenberg-Marquardt (Newton with a large trust region) with sparse
 // Cholesky, along a continuation of the barrier weight eps; the lap time is extrapolated to eps = 0.

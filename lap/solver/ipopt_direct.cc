@@ -20,17 +20,27 @@ namespace {
 using Ipopt::Index;
 using Ipopt::Number;
 
-constexpr int kLowerTriangle = kNodeVars * (kNodeVars + 1) / 2;  // Hessian entries per node
-constexpr double kMaxStateDefect = 1e-6;   // scaled trapezoidal defect of an accepted answer
+// Unknowns of one interval k, contiguous in Ipopt's vector: x~_k, u~_k, x~_{k+1}.
+constexpr int kIntervalVars = 2 * kNumStates + kNumControls;
+constexpr int kLowerTriangle = kIntervalVars * (kIntervalVars + 1) / 2;  // Hessian entries
+constexpr double kMaxStateDefect = 1e-6;   // scaled midpoint defect of an accepted answer
 constexpr double kMaxViolation = 1e-4;     // largest g_j > 0 (relative) of an accepted answer
 
-// Position of entry (a, b), a >= b, in a node's lower triangle, row by row.
+// Position of entry (a, b), a >= b, in an interval's lower triangle, row by row.
 constexpr int TriangleEntry(int a, int b) { return a * (a + 1) / 2 + b; }
 
-// Runs ok(k) for every node k in [0, n), the nodes split in `threads` contiguous parts; true if
-// every call returned true.
+// The midpoint variable z_mid = ((x~_k + x~_{k+1}) / 2, u~_k) that the interval's unknown a
+// (0 <= a < kIntervalVars) enters, and dz_mid / d(unknown a): 1/2 for the states, 1 for the
+// controls.
+constexpr int MidVar(int a) {
+  return a < kNodeVars ? a : a - kNodeVars;
+}
+constexpr double MidFactor(int a) { return a < kNumStates || a >= kNodeVars ? 0.5 : 1.0; }
+
+// Runs ok(k) for every interval k in [0, n), the intervals split in `threads` contiguous parts;
+// true if every call returned true.
 template <typename F>
-bool ForEachNode(int n, int threads, F ok) {
+bool ForEachInterval(int n, int threads, F ok) {
   const int parts = std::max(1, threads);
   std::vector<char> part_ok(parts, 1);
   auto work = [&](int p) {
@@ -43,49 +53,55 @@ bool ForEachNode(int n, int threads, F ok) {
   return std::all_of(part_ok.begin(), part_ok.end(), [](char c) { return c != 0; });
 }
 
-// The transcription's data: mesh, nodes and the control-rate weight (ipopt_direct.h).
+// The transcription's data: mesh, midpoints (ipopt_direct.h).
 struct Transcription {
   std::vector<double> s, h;  // nodes and interval lengths h_k = s_{k+1} - s_k [m]
-  std::vector<DirectNode> nodes;
+  std::vector<DirectNode> mids;  // the model's data at the interval midpoints s_{k+1/2}
   Scales sc;
-  double rate_weight = 0.0;  // c [s m]
-  int threads = 1;           // for the node evaluations
+  double rate_weight = 0.0;  // c [s m] of the control-rate term (ipopt_direct.h)
+  int threads = 1;           // for the midpoint evaluations
 
   int NumNodes() const { return static_cast<int>(s.size()); }
   int NumIntervals() const { return NumNodes() - 1; }
-  int NumVars() const { return kNodeVars * NumNodes(); }
-  int Var(int k, int c) const { return kNodeVars * k + c; }
+  // Ipopt's unknowns: x~_0, u~_0, x~_1, u~_1, ..., u~_{N-1}, x~_N.
+  int NumVars() const { return kNodeVars * NumIntervals() + kNumStates; }
+  int State(int k, int i) const { return kNodeVars * k + i; }
+  int Control(int k, int i) const { return kNodeVars * k + kNumStates + i; }
+  int IntervalVar(int k, int a) const { return kNodeVars * k + a; }  // a < kIntervalVars
   int DefectRow(int k, int i) const { return kNumStates * k + i; }
-  int PathRow(int k, int j) const { return kNumStates * NumIntervals() + kNumConstraints * k + j; }
-  int NumRows() const { return PathRow(NumNodes(), 0); }
-  // Trapezoidal quadrature weight of node k: (h_{k-1} + h_k) / 2 [m].
-  double Weight(int k) const {
-    return 0.5 * ((k > 0 ? h[k - 1] : 0.0) + (k < NumIntervals() ? h[k] : 0.0));
+  int PathRow(int k, int j) const {
+    return kNumStates * NumIntervals() + kNumConstraints * k + j;
   }
+  int NumRows() const { return PathRow(NumIntervals(), 0); }
+  // Distance between the midpoints of intervals k - 1 and k (0 < k < N) [m].
+  double MidSpacing(int k) const { return 0.5 * (h[k - 1] + h[k]); }
 };
 
-// The node values (and Jacobians) of the current Ipopt point, evaluated once per point.
-class NodeCache {
+// The midpoint values (and Jacobians) of the current Ipopt point, evaluated once per point.
+class MidCache {
  public:
-  explicit NodeCache(const Transcription* tr)
-      : tr_(tr), z_(tr->NumNodes()), y_(tr->NumNodes()), J_(tr->NumNodes()) {}
+  explicit MidCache(const Transcription* tr)
+      : tr_(tr), z_(tr->NumIntervals()), y_(tr->NumIntervals()), J_(tr->NumIntervals()) {}
 
   // Makes y (and J when `derivatives`) current at x; false where the model is undefined.
   bool Update(const Number* x, bool new_x, bool derivatives) {
     if (new_x || !have_point_) {
-      for (int k = 0; k < tr_->NumNodes(); ++k)
-        z_[k] = Eigen::Map<const NodePoint>(x + tr_->Var(k, 0));
+      for (int k = 0; k < tr_->NumIntervals(); ++k)
+        for (int a = 0; a < kNodeVars; ++a)
+          z_[k](a) = a < kNumStates
+                         ? 0.5 * (x[tr_->State(k, a)] + x[tr_->State(k + 1, a)])
+                         : x[tr_->Control(k, a - kNumStates)];
       have_point_ = true;
       have_values_ = have_jacobians_ = false;
     }
     if (derivatives && !have_jacobians_) {
-      ok_ = ForEachNode(tr_->NumNodes(), tr_->threads, [&](int k) {
-        return NodeDerivatives(tr_->nodes[k], z_[k], &y_[k], &J_[k]);
+      ok_ = ForEachInterval(tr_->NumIntervals(), tr_->threads, [&](int k) {
+        return NodeDerivatives(tr_->mids[k], z_[k], &y_[k], &J_[k]);
       });
       have_values_ = have_jacobians_ = true;
     } else if (!have_values_) {
-      ok_ = ForEachNode(tr_->NumNodes(), tr_->threads,
-                        [&](int k) { return NodeValues(tr_->nodes[k], z_[k], &y_[k]); });
+      ok_ = ForEachInterval(tr_->NumIntervals(), tr_->threads,
+                            [&](int k) { return NodeValues(tr_->mids[k], z_[k], &y_[k]); });
       have_values_ = true;
     }
     return ok_;
@@ -102,11 +118,22 @@ class NodeCache {
   bool have_point_ = false, have_values_ = false, have_jacobians_ = false, ok_ = false;
 };
 
-// Lap time sum_k w_k / sdot_k (trapezoidal rule, eq. 38) of the cached values [s].
-double LapTime(const Transcription& tr, const NodeCache& cache) {
+// Lap time sum_k h_k / sdot_{k+1/2} (midpoint rule, eq. 38) of the cached values [s].
+double LapTime(const Transcription& tr, const MidCache& cache) {
   double t = 0.0;
-  for (int k = 0; k < tr.NumNodes(); ++k) t += tr.Weight(k) * cache.y(k)(kOutTime);
+  for (int k = 0; k < tr.NumIntervals(); ++k) t += tr.h[k] * cache.y(k)(kOutTime);
   return t;
+}
+
+// The weights of interval k's outputs in the Lagrangian sigma f + sum lambda_r c_r, less the
+// defects' linear terms: sigma h_k on 1 / sdot, -h_k lambda_{k,i} on x~'_i, mu_{k,j} on g_j.
+NodeOutputs IntervalWeights(const Transcription& tr, int k, double obj_factor,
+                            const Number* lambda) {
+  NodeOutputs w;
+  w(kOutTime) = obj_factor * tr.h[k];
+  for (int i = 0; i < kNumStates; ++i) w(kOutDxDs + i) = -tr.h[k] * lambda[tr.DefectRow(k, i)];
+  for (int j = 0; j < kNumConstraints; ++j) w(kOutG + j) = lambda[tr.PathRow(k, j)];
+  return w;
 }
 
 // The nonlinear program of ipopt_direct.h for Ipopt.
@@ -119,9 +146,8 @@ class LapNlp : public Ipopt::TNLP {
                     IndexStyleEnum& index_style) final {
     n = tr_->NumVars();
     m = tr_->NumRows();
-    nnz_jac_g = tr_->NumIntervals() * kNumStates * 2 * kNodeVars +
-                tr_->NumNodes() * kNumConstraints * kNodeVars;
-    nnz_h_lag = tr_->NumNodes() * kLowerTriangle + NumRateCouplings();
+    nnz_jac_g = tr_->NumIntervals() * (kNumStates + kNumConstraints) * kIntervalVars;
+    nnz_h_lag = tr_->NumIntervals() * kLowerTriangle + 3 * NumRatePairs();
     index_style = C_STYLE;
     return true;
   }
@@ -153,69 +179,78 @@ class LapNlp : public Ipopt::TNLP {
   bool eval_grad_f(Index n, const Number* x, bool new_x, Number* grad_f) final {
     if (!cache_.Update(x, new_x, true)) return false;
     std::fill(grad_f, grad_f + n, 0.0);
-    for (int k = 0; k < tr_->NumNodes(); ++k)
-      for (int c = 0; c < kNodeVars; ++c)
-        grad_f[tr_->Var(k, c)] += tr_->Weight(k) * cache_.J(k)(kOutTime, c);
     for (int k = 0; k < tr_->NumIntervals(); ++k)
-      for (int i = 0; i < kNumControls; ++i) {
-        const int a = tr_->Var(k, kNumStates + i), b = tr_->Var(k + 1, kNumStates + i);
-        const double d = 2.0 * tr_->rate_weight * (x[b] - x[a]) / tr_->h[k];
-        grad_f[a] -= d;
-        grad_f[b] += d;
-      }
+      for (int a = 0; a < kIntervalVars; ++a)
+        grad_f[tr_->IntervalVar(k, a)] +=
+            tr_->h[k] * MidFactor(a) * cache_.J(k)(kOutTime, MidVar(a));
+    if (NumRatePairs() > 0)
+      for (int k = 1; k < tr_->NumIntervals(); ++k)
+        for (int i = 0; i < kNumControls; ++i) {
+          const int a = tr_->Control(k - 1, i), b = tr_->Control(k, i);
+          const double d = 2.0 * tr_->rate_weight * (x[b] - x[a]) / tr_->MidSpacing(k);
+          grad_f[a] -= d;
+          grad_f[b] += d;
+        }
     return true;
   }
 
   bool eval_g(Index, const Number* x, bool new_x, Index, Number* g) final {
     if (!cache_.Update(x, new_x, false)) return false;
-    for (int k = 0; k < tr_->NumIntervals(); ++k)
+    for (int k = 0; k < tr_->NumIntervals(); ++k) {
       for (int i = 0; i < kNumStates; ++i)
-        g[tr_->DefectRow(k, i)] = x[tr_->Var(k + 1, i)] - x[tr_->Var(k, i)] -
-                                  0.5 * tr_->h[k] * (cache_.y(k)(i) + cache_.y(k + 1)(i));
-    for (int k = 0; k < tr_->NumNodes(); ++k)
+        g[tr_->DefectRow(k, i)] = x[tr_->State(k + 1, i)] - x[tr_->State(k, i)] -
+                                  tr_->h[k] * cache_.y(k)(kOutDxDs + i);
       for (int j = 0; j < kNumConstraints; ++j) g[tr_->PathRow(k, j)] = cache_.y(k)(kOutG + j);
+    }
     return true;
   }
 
-  // Dense blocks: each defect row over the 2 x 13 unknowns of its interval, each constraint row
-  // over the 13 of its node.
+  // Dense blocks: each defect row and each constraint row of interval k over its 24 unknowns.
   bool eval_jac_g(Index, const Number* x, bool new_x, Index, Index, Index* iRow, Index* jCol,
                   Number* values) final {
     if (values == nullptr) return JacobianStructure(iRow, jCol);
     if (!cache_.Update(x, new_x, true)) return false;
     int e = 0;
-    for (int k = 0; k < tr_->NumIntervals(); ++k)
+    for (int k = 0; k < tr_->NumIntervals(); ++k) {
+      const NodeJacobian& J = cache_.J(k);
       for (int i = 0; i < kNumStates; ++i)
-        for (int side = 0; side < 2; ++side)
-          for (int c = 0; c < kNodeVars; ++c) {
-            const double identity = c == i ? (side == 0 ? -1.0 : 1.0) : 0.0;
-            values[e++] = identity - 0.5 * tr_->h[k] * cache_.J(k + side)(kOutDxDs + i, c);
-          }
-    for (int k = 0; k < tr_->NumNodes(); ++k)
+        for (int a = 0; a < kIntervalVars; ++a) {
+          const double identity = a == i ? -1.0 : (a == kNodeVars + i ? 1.0 : 0.0);
+          values[e++] = identity - tr_->h[k] * MidFactor(a) * J(kOutDxDs + i, MidVar(a));
+        }
       for (int j = 0; j < kNumConstraints; ++j)
-        for (int c = 0; c < kNodeVars; ++c) values[e++] = cache_.J(k)(kOutG + j, c);
+        for (int a = 0; a < kIntervalVars; ++a)
+          values[e++] = MidFactor(a) * J(kOutG + j, MidVar(a));
+    }
     return true;
   }
 
-  // Hessian of the Lagrangian sigma f + sum lambda_r c_r: per node the 13 x 13 Hessian of
-  // sigma w_k / sdot_k - sum_i (h_{k-1} lambda_{k-1,i} + h_k lambda_{k,i}) / 2 x~'_{k,i}
-  // + sum_j mu_{k,j} g_{k,j} (lower triangle), plus the constant control-rate term.
+  // Hessian of the Lagrangian: per interval, the 13 x 13 Hessian of w^T y (IntervalWeights) in
+  // z_mid by nested Jets, mapped to the interval's 24 unknowns by the chain factors 1/2 (states)
+  // and 1 (controls). Neighbouring intervals share x~_k: Ipopt adds the duplicate entries.
   bool eval_h(Index, const Number* x, bool new_x, Number obj_factor, Index, const Number* lambda,
               bool, Index, Index* iRow, Index* jCol, Number* values) final {
     if (values == nullptr) return HessianStructure(iRow, jCol);
     if (!cache_.Update(x, new_x, false)) return false;
-    const bool ok = ForEachNode(tr_->NumNodes(), tr_->threads, [&](int k) {
+    Number* rate = values + tr_->NumIntervals() * kLowerTriangle;
+    for (int k = 1; k < tr_->NumIntervals() && NumRatePairs() > 0; ++k)
+      for (int i = 0; i < kNumControls; ++i) {
+        const double d = 2.0 * obj_factor * tr_->rate_weight / tr_->MidSpacing(k);
+        *rate++ = d;
+        *rate++ = d;
+        *rate++ = -d;
+      }
+    return ForEachInterval(tr_->NumIntervals(), tr_->threads, [&](int k) {
       NodeHessian H;
-      if (!NodeWeightedHessian(tr_->nodes[k], cache_.z(k), NodeWeights(k, obj_factor, lambda), &H))
+      if (!NodeWeightedHessian(tr_->mids[k], cache_.z(k),
+                               IntervalWeights(*tr_, k, obj_factor, lambda), &H))
         return false;
       Number* block = values + k * kLowerTriangle;
-      for (int a = 0; a < kNodeVars; ++a)
-        for (int b = 0; b <= a; ++b) block[TriangleEntry(a, b)] = H(a, b);
+      for (int a = 0; a < kIntervalVars; ++a)
+        for (int b = 0; b <= a; ++b)
+          block[TriangleEntry(a, b)] = MidFactor(a) * MidFactor(b) * H(MidVar(a), MidVar(b));
       return true;
     });
-    if (!ok) return false;
-    AddRateHessian(obj_factor, values);
-    return true;
   }
 
   void finalize_solution(Ipopt::SolverReturn, Index n, const Number* x, const Number*,
@@ -229,83 +264,62 @@ class LapNlp : public Ipopt::TNLP {
   const std::vector<double>& lambda_final() const { return lambda_final_; }
 
  private:
-  int NumRateCouplings() const {
-    return tr_->rate_weight > 0.0 ? tr_->NumIntervals() * kNumControls : 0;
+  int NumRatePairs() const {
+    return tr_->rate_weight > 0.0 ? (tr_->NumIntervals() - 1) * kNumControls : 0;
   }
 
-  // c sum_k sum_i (u~_{k+1,i} - u~_{k,i})^2 / h_k [s].
+  // c sum_k sum_i (u~_{k,i} - u~_{k-1,i})^2 / ((h_{k-1} + h_k) / 2) [s].
   double RateTerm(const Number* x) const {
     double r = 0.0;
-    for (int k = 0; k < tr_->NumIntervals(); ++k)
+    for (int k = 1; k < tr_->NumIntervals() && NumRatePairs() > 0; ++k)
       for (int i = 0; i < kNumControls; ++i) {
-        const double d = x[tr_->Var(k + 1, kNumStates + i)] - x[tr_->Var(k, kNumStates + i)];
-        r += tr_->rate_weight * d * d / tr_->h[k];
+        const double d = x[tr_->Control(k, i)] - x[tr_->Control(k - 1, i)];
+        r += tr_->rate_weight * d * d / tr_->MidSpacing(k);
       }
     return r;
   }
 
-  NodeOutputs NodeWeights(int k, double obj_factor, const Number* lambda) const {
-    NodeOutputs w = NodeOutputs::Zero();
-    w(kOutTime) = obj_factor * tr_->Weight(k);
-    for (int i = 0; i < kNumStates; ++i) {
-      if (k > 0) w(kOutDxDs + i) -= 0.5 * tr_->h[k - 1] * lambda[tr_->DefectRow(k - 1, i)];
-      if (k < tr_->NumIntervals())
-        w(kOutDxDs + i) -= 0.5 * tr_->h[k] * lambda[tr_->DefectRow(k, i)];
-    }
-    for (int j = 0; j < kNumConstraints; ++j) w(kOutG + j) = lambda[tr_->PathRow(k, j)];
-    return w;
-  }
-
-  void AddRateHessian(double obj_factor, Number* values) const {
-    if (NumRateCouplings() == 0) return;
-    Number* coupling = values + tr_->NumNodes() * kLowerTriangle;
-    for (int k = 0; k < tr_->NumIntervals(); ++k)
-      for (int i = 0; i < kNumControls; ++i) {
-        const double d = 2.0 * obj_factor * tr_->rate_weight / tr_->h[k];
-        const int c = kNumStates + i;
-        values[k * kLowerTriangle + TriangleEntry(c, c)] += d;
-        values[(k + 1) * kLowerTriangle + TriangleEntry(c, c)] += d;
-        *coupling++ = -d;
-      }
-  }
-
   bool JacobianStructure(Index* iRow, Index* jCol) const {
     int e = 0;
-    for (int k = 0; k < tr_->NumIntervals(); ++k)
+    for (int k = 0; k < tr_->NumIntervals(); ++k) {
       for (int i = 0; i < kNumStates; ++i)
-        for (int side = 0; side < 2; ++side)
-          for (int c = 0; c < kNodeVars; ++c, ++e) {
-            iRow[e] = tr_->DefectRow(k, i);
-            jCol[e] = tr_->Var(k + side, c);
-          }
-    for (int k = 0; k < tr_->NumNodes(); ++k)
-      for (int j = 0; j < kNumConstraints; ++j)
-        for (int c = 0; c < kNodeVars; ++c, ++e) {
-          iRow[e] = tr_->PathRow(k, j);
-          jCol[e] = tr_->Var(k, c);
+        for (int a = 0; a < kIntervalVars; ++a, ++e) {
+          iRow[e] = tr_->DefectRow(k, i);
+          jCol[e] = tr_->IntervalVar(k, a);
         }
+      for (int j = 0; j < kNumConstraints; ++j)
+        for (int a = 0; a < kIntervalVars; ++a, ++e) {
+          iRow[e] = tr_->PathRow(k, j);
+          jCol[e] = tr_->IntervalVar(k, a);
+        }
+    }
     return true;
   }
 
   bool HessianStructure(Index* iRow, Index* jCol) const {
     int e = 0;
-    for (int k = 0; k < tr_->NumNodes(); ++k)
-      for (int a = 0; a < kNodeVars; ++a)
-        for (int b = 0; b <= a; ++b, ++e) {
-          iRow[e] = tr_->Var(k, a);
-          jCol[e] = tr_->Var(k, b);
-        }
-    if (NumRateCouplings() == 0) return true;
     for (int k = 0; k < tr_->NumIntervals(); ++k)
-      for (int i = 0; i < kNumControls; ++i, ++e) {
-        iRow[e] = tr_->Var(k + 1, kNumStates + i);
-        jCol[e] = tr_->Var(k, kNumStates + i);
+      for (int a = 0; a < kIntervalVars; ++a)
+        for (int b = 0; b <= a; ++b, ++e) {
+          iRow[e] = tr_->IntervalVar(k, a);
+          jCol[e] = tr_->IntervalVar(k, b);
+        }
+    for (int k = 1; k < tr_->NumIntervals() && NumRatePairs() > 0; ++k)
+      for (int i = 0; i < kNumControls; ++i) {
+        const int a = tr_->Control(k - 1, i), b = tr_->Control(k, i);
+        iRow[e] = jCol[e] = a;
+        ++e;
+        iRow[e] = jCol[e] = b;
+        ++e;
+        iRow[e] = b;
+        jCol[e] = a;
+        ++e;
       }
     return true;
   }
 
   const Transcription* tr_;
-  NodeCache cache_;
+  MidCache cache_;
   std::vector<double> start_;
   std::vector<double> x_final_, lambda_final_;
 };
@@ -317,21 +331,24 @@ Transcription MakeTranscription(const Vehicle& v, const RoadTrack& road,
   tr.sc = DefaultScales(v);
   tr.rate_weight = options.control_rate_weight;
   tr.threads = options.num_threads;
-  for (int k = 0; k + 1 < tr.NumNodes(); ++k) tr.h.push_back(mesh[k + 1] - mesh[k]);
-  for (double s : mesh) tr.nodes.push_back({&v, tr.sc, road.At(s)});
+  for (int k = 0; k + 1 < tr.NumNodes(); ++k) {
+    tr.h.push_back(mesh[k + 1] - mesh[k]);
+    tr.mids.push_back({&v, tr.sc, road.At(0.5 * (mesh[k] + mesh[k + 1]))});
+  }
   return tr;
 }
 
-// The guess as Ipopt's unknowns z_k = (x_k / S, u_k / S_u).
+// The guess as Ipopt's unknowns: x~_k = x_k / S at the nodes, u~_k = (u_k + u_{k+1}) / 2 / S_u
+// on the intervals (as the indirect solver starts its controls).
 std::vector<double> ScaledGuess(const Transcription& tr,
                                 const std::vector<StateVector<double>>& x_guess,
                                 const std::vector<ControlVector<double>>& u_guess) {
   std::vector<double> z(tr.NumVars());
-  for (int k = 0; k < tr.NumNodes(); ++k) {
-    for (int i = 0; i < kNumStates; ++i) z[tr.Var(k, i)] = x_guess[k][i] / tr.sc.state[i];
+  for (int k = 0; k < tr.NumNodes(); ++k)
+    for (int i = 0; i < kNumStates; ++i) z[tr.State(k, i)] = x_guess[k][i] / tr.sc.state[i];
+  for (int k = 0; k < tr.NumIntervals(); ++k)
     for (int i = 0; i < kNumControls; ++i)
-      z[tr.Var(k, kNumStates + i)] = u_guess[k][i] / tr.sc.control[i];
-  }
+      z[tr.Control(k, i)] = 0.5 * (u_guess[k][i] + u_guess[k + 1][i]) / tr.sc.control[i];
   return z;
 }
 
@@ -361,50 +378,55 @@ std::string StatusName(Ipopt::ApplicationReturnStatus status) {
   }
 }
 
-// The costates of the scaled states, p = -(Ipopt's defect multipliers): with the Lagrangian
-// t + sum_k lambda_k^T c_k, stationarity in x~_k is the trapezoidal form of p' = -H_x~ (eq. 38)
-// for p = -lambda. The multipliers belong to the intervals (their midpoints): an interior node
-// takes the mean of its two, an end node the linear extrapolation of the two nearest.
+// The costates of the scaled states at the nodes. With the Lagrangian
+// t + sum_k lambda_k^T c_k + sum_k mu_k^T g_k, stationarity in x~_k reads
+//   -lambda_{k-1} - D_{k-1} / 2 = -lambda_k + D_k / 2 =: p_k,
+// D_k = d/dx~_mid (h_k / sdot - h_k lambda_k^T x~' + mu_k^T g) at midpoint k. Then
+// p_{k+1} - p_k = -D_k with p_{k+1/2} = (p_k + p_{k+1}) / 2 = -lambda_k: the implicit-midpoint
+// costate equation of the indirect solver, lambda~_{k+1} - lambda~_k = -h H_x~(k+1/2), exactly,
+// and p_N = 0 (free end state). p_k is taken from interval k (k < N), p_N from interval N - 1.
 std::vector<StateVector<double>> CostatesFromMultipliers(const Transcription& tr,
+                                                         const MidCache& cache,
                                                          const std::vector<double>& lambda) {
-  const int n = tr.NumNodes(), last = tr.NumIntervals() - 1;
-  auto at = [&](int k, int i) { return -lambda[tr.DefectRow(k, i)]; };
+  const int n = tr.NumNodes();
   std::vector<StateVector<double>> p(n);
-  for (int i = 0; i < kNumStates; ++i) {
-    for (int k = 1; k + 1 < n; ++k) p[k][i] = 0.5 * (at(k - 1, i) + at(k, i));
-    if (last == 0) {
-      p[0][i] = p[1][i] = at(0, i);
-      continue;
+  for (int k = 0; k < tr.NumIntervals(); ++k) {
+    const NodeOutputs w = IntervalWeights(tr, k, 1.0, lambda.data());
+    const Eigen::Matrix<double, kNodeVars, 1> D = cache.J(k).transpose() * w;
+    for (int i = 0; i < kNumStates; ++i) {
+      const double mid = -lambda[tr.DefectRow(k, i)];
+      p[k][i] = mid + 0.5 * D(i);
+      if (k + 1 == tr.NumIntervals()) p[k + 1][i] = mid - 0.5 * D(i);
     }
-    p[0][i] = at(0, i) + (at(0, i) - at(1, i)) * tr.h[0] / (tr.h[0] + tr.h[1]);
-    p[n - 1][i] =
-        at(last, i) + (at(last, i) - at(last - 1, i)) * tr.h[last] / (tr.h[last] + tr.h[last - 1]);
   }
   return p;
 }
 
-// Fills the solution and the checks of the answer (state defects, constraint violations) from
-// the node values at the final point.
-void CheckAnswer(const Transcription& tr, const NodeCache& cache, LapSolution* sol,
-                 SolveSummary* summary) {
+// Fills the solution and the checks of the answer (state defects, constraint violations at the
+// midpoints) from the cached midpoint values at the final point. A node reports the mean of its
+// neighbouring intervals' controls (an end node, its one interval's), as the indirect solver.
+void CheckAnswer(const Transcription& tr, const std::vector<double>& x, const MidCache& cache,
+                 LapSolution* sol, SolveSummary* summary) {
   const int n = tr.NumNodes();
   sol->x.resize(n);
-  sol->u.resize(n);
+  sol->u.assign(n, ControlVector<double>{});
   sol->t.assign(n, 0.0);
   summary->max_violation.assign(kNumConstraints, -HUGE_VAL);
   summary->max_state_defect = 0.0;
-  for (int k = 0; k < n; ++k) {
-    for (int i = 0; i < kNumStates; ++i) sol->x[k][i] = cache.z(k)(i) * tr.sc.state[i];
-    for (int i = 0; i < kNumControls; ++i)
-      sol->u[k][i] = cache.z(k)(kNumStates + i) * tr.sc.control[i];
+  for (int k = 0; k < n; ++k)
+    for (int i = 0; i < kNumStates; ++i) sol->x[k][i] = x[tr.State(k, i)] * tr.sc.state[i];
+  for (int k = 0; k + 1 < n; ++k) {
+    for (int i = 0; i < kNumControls; ++i) {
+      const double u = x[tr.Control(k, i)] * tr.sc.control[i];
+      for (int node : {k, k + 1})
+        sol->u[node][i] += u * ((node == 0 || node == n - 1) ? 1.0 : 0.5);
+    }
     for (int j = 0; j < kNumConstraints; ++j)
       summary->max_violation[j] = std::max(summary->max_violation[j], cache.y(k)(kOutG + j));
-    if (k == 0) continue;
-    sol->t[k] =
-        sol->t[k - 1] + 0.5 * tr.h[k - 1] * (cache.y(k - 1)(kOutTime) + cache.y(k)(kOutTime));
+    sol->t[k + 1] = sol->t[k] + tr.h[k] * cache.y(k)(kOutTime);
     for (int i = 0; i < kNumStates; ++i) {
-      const double defect = cache.z(k)(i) - cache.z(k - 1)(i) -
-                            0.5 * tr.h[k - 1] * (cache.y(k - 1)(i) + cache.y(k)(i));
+      const double defect =
+          x[tr.State(k + 1, i)] - x[tr.State(k, i)] - tr.h[k] * cache.y(k)(kOutDxDs + i);
       summary->max_state_defect = std::max(summary->max_state_defect, std::abs(defect));
     }
   }
@@ -437,12 +459,12 @@ LapSolution SolveDirectIpopt(const Vehicle& v, const RoadTrack& road,
     double dual, primal, complementarity;
     stats->ScaledInfeasibilities(dual, primal, complementarity, summary->max_residual);
   }
-  NodeCache cache(&tr);
-  if (nlp->x_final().empty() || !cache.Update(nlp->x_final().data(), true, false)) {
+  MidCache cache(&tr);
+  if (nlp->x_final().empty() || !cache.Update(nlp->x_final().data(), true, true)) {
     why << "no answer to check (model undefined at Ipopt's last point); ";
   } else {
-    CheckAnswer(tr, cache, &sol, summary);
-    sol.lambda = CostatesFromMultipliers(tr, nlp->lambda_final());
+    CheckAnswer(tr, nlp->x_final(), cache, &sol, summary);
+    sol.lambda = CostatesFromMultipliers(tr, cache, nlp->lambda_final());
     if (!(summary->max_state_defect <= kMaxStateDefect))
       why << "state defect " << summary->max_state_defect << "; ";
     for (int j = 0; j < kNumConstraints; ++j)

@@ -3,13 +3,17 @@
 // MUMPS). It shares nothing with the indirect solver (lap/solver/indirect.h) but the model, so
 // their agreement tests both.
 //
-// Transcription on the mesh s_0 < ... < s_N, h_k = s_{k+1} - s_k, unknowns z_k = (x~_k, u~_k) at
-// every node (states and controls scaled by DefaultScales, order one):
-//   minimise    sum_k h_k / 2 (1/sdot_k + 1/sdot_{k+1})              (eq. 38, lap time)
-//               + c sum_k sum_i (u~_{k+1,i} - u~_{k,i})^2 / h_k       (control rate, below)
-//   subject to  x~_{k+1} - x~_k - h_k / 2 (x~'_k + x~'_{k+1}) = 0      (eq. 36-37, trapezoidal)
-//               g_j(x_k, u_k) <= 0 for every constraint j and node k  (eq. 39a-g, constraints.h)
-//               x~_0 = x_guess[0] / S                                  (start state fixed)
+// Transcription on the mesh s_0 < ... < s_N, h_k = s_{k+1} - s_k: the indirect solver's implicit
+// midpoint rule with one control per interval (lap/solver/indirect.cc, docs/lap.md "Solver
+// design"), so that both solve the same discrete problem on the same mesh. Unknowns: the scaled
+// states x~_k at the nodes and the scaled controls u~_k of the intervals (DefaultScales, order
+// one); interval k is evaluated at its midpoint z_k = ((x~_k + x~_{k+1}) / 2, u~_k), with the road
+// at s_{k+1/2} = (s_k + s_{k+1}) / 2:
+//   minimise    sum_k h_k / sdot(z_k)                                (eq. 38, lap time)
+//               + c sum_k sum_i (u~_{k,i} - u~_{k-1,i})^2 / ((h_{k-1} + h_k) / 2)  (below)
+//   subject to  x~_{k+1} - x~_k - h_k x~'(z_k) = 0                   (eq. 36-37, implicit midpoint)
+//               g_j(z_k) <= 0 for every constraint j and interval k (eq. 39a-g, constraints.h)
+//               x~_0 = x_guess[0] / S                                 (start state fixed)
 // The end state is free (paper). The inequalities are Ipopt constraints, not barrier penalties of
 // the Hamiltonian: the answer has eps = 0.
 #pragma once
@@ -32,32 +36,34 @@ struct IpoptOptions {
   int max_iterations = 3000;
   // Ipopt's `print_level`: 0 silent, 5 one line per iteration and a final statistics block.
   int print_level = 0;
-  // c [s m] of the control-rate term c * integral |du~/ds|^2 ds added to the objective. With the
-  // controls at the nodes and the trapezoidal rule, an alternating ("odd-even") mode of the
-  // controls changes neither the defects nor the lap time to first order, so it is nearly free
-  // and rings (lap-solver notes); this term damps it. The reported lap time excludes the term.
-  // Measured on a 300 m road, 8 m wide, with a 50 m radius bend from 100 to 220 m (curvature
-  // ramped over 20 m at each end), 2 m mesh, bx15, from the QSS guess: c = 0 rings in the braking
-  // torque by up to +-300 N m node to node and takes 14.212 s, 0.56 % less than c = 1e-4 started
-  // from that answer (14.293 s, smooth); c = 3e-5, 1e-4, 3e-4, 1e-3 give 14.292, 14.295, 14.315,
-  // 14.327 s (the first two are different local optima). On the straight of ipopt_direct_test
-  // the lap moves by < 1e-7 relative between c = 1e-4 and 1e-3.
+  // c [s m] of the control-rate term c * integral |du~/ds|^2 ds (between interval midpoints)
+  // added to the objective; the reported lap time excludes it. Still needed with one control per
+  // interval: on a 300 m road, 8 m wide, with a 50 m radius bend from 100 to 220 m (curvature
+  // ramped over 20 m at each end), 2 m mesh, bx15, from the QSS guess, c = 0 rings in the braking
+  // torque (node values alternating by up to 500 N m, e.g. -3, -318, -672, -380 N m from 104 m)
+  // and takes 14.235 s in 244 iterations (11 s); c = 1e-5 still rings in the steering (+-0.09 rad
+  // node to node near 125 m), 14.255 s; c = 3e-5, 1e-4, 3e-4, 1e-3 are smooth and give 14.312,
+  // 14.313 (60 iterations, 4 s), 14.317, 14.324 s. On the straight of ipopt_direct_test the lap
+  // does not move between c = 0 and 1e-4 (10.943536 s both).
   double control_rate_weight = 1e-4;
   // Ipopt's `mu_strategy`: "adaptive" or "monotone". Both converge on the roads above;
-  // adaptive took 16 and 57 iterations (straight, bend), monotone 233 and 87.
+  // adaptive took 8 and 60 iterations (straight, bend), monotone 131 and 203.
   std::string mu_strategy = "adaptive";
-  // Threads for the node evaluations (80 % of the time with one thread; Ipopt's own linear
+  // Threads for the midpoint evaluations (80 % of the time with one thread; Ipopt's own linear
   // algebra, MUMPS, is sequential).
   int num_threads = 2;
 };
 
-// Solves from the guess (x_guess[0] is the fixed start state). The answer is checked after Ipopt
-// reports success: the largest scaled trapezoidal state defect must be <= 1e-6 and every
-// constraint g_j <= 1e-4 (relative), else summary->converged is false and summary->message says
-// why. Returned: lambda = the costates of the scaled states from the defect multipliers
-// (ipopt_direct.cc, CostatesFromMultipliers), eps = 0, lap_time = lap_time_extrapolated = the
-// lap time of the objective; summary->max_residual = Ipopt's final scaled NLP error,
-// summary->steps empty, summary->control_failures 0.
+// Solves from the guess (x_guess[0] is the fixed start state; the controls start at the mean of
+// u_guess at the interval's two nodes). The answer is checked after Ipopt reports success: the
+// largest scaled midpoint state defect must be <= 1e-6 and every constraint g_j <= 1e-4
+// (relative) at every midpoint, else summary->converged is false and summary->message says why.
+// Returned: x at the nodes; u at a node = the mean of its neighbouring intervals' controls (an end
+// node: its one interval's), as the indirect solver reports them; lambda = the costates of the
+// scaled states at the nodes from the defect multipliers (ipopt_direct.cc,
+// CostatesFromMultipliers); eps = 0; lap_time = lap_time_extrapolated = the lap time of the
+// objective; summary->max_residual = Ipopt's final scaled NLP error, summary->steps empty,
+// summary->control_failures 0.
 LapSolution SolveDirectIpopt(const Vehicle& v, const RoadTrack& road,
                              const std::vector<double>& mesh,
                              const std::vector<StateVector<double>>& x_guess,

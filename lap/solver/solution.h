@@ -37,7 +37,7 @@ struct SolveSummary {
   int iterations = 0;                          // optimiser iterations in all steps
   double solve_seconds = 0.0;
   double max_residual = 0.0;                   // scaled, of the final system
-  double max_state_defect = 0.0;               // scaled trapezoidal state defect
+  double max_state_defect = 0.0;               // largest scaled state defect of the transcription
   std::vector<double> max_violation;           // per constraint kind (kConstraintNames), max g_j
   int control_failures = 0;                    // nodes whose H_u = 0 Newton did not converge
 };
