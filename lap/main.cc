@@ -1,6 +1,7 @@
 // lap: the minimum-lap-time manoeuvre of the electric motorcycle (paper eq. 9-39) on a road.h5,
 // written to lap.h5 (docs/lap_h5.md) with a short summary on stdout.
 #include <CLI/CLI.hpp>
+#include <glog/logging.h>
 
 #include <cmath>
 #include <filesystem>
@@ -167,6 +168,9 @@ int main(int argc, char** argv) {
   return ttz::RunCommandLine("lap", app, argc, argv, [&] {
     if (arguments.quiet) ttz::SetLogLevel(1);
     if (arguments.verbose) ttz::SetLogLevel(3);
+    // Ceres logs a warning through glog for every trial step that leaves the model's domain (a
+    // node at V <= 0.1 m/s, say): expected while solving, so shown only with --verbose.
+    if (!arguments.verbose) FLAGS_minloglevel = google::GLOG_ERROR;
     return Run(arguments);
   });
 }
