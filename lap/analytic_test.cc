@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <functional>
 #include <string>
 #include <vector>
 
@@ -17,6 +16,7 @@
 #include "lap/model/dynamics.h"
 #include "lap/qss.h"
 #include "lap/solver/ipopt_direct.h"
+#include "lap/testing/synthetic_road.h"
 
 namespace ttz::lap {
 namespace {
@@ -25,26 +25,8 @@ Vehicle Bike(const std::vector<std::string>& overrides = {}) {
   return MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml", overrides));
 }
 
-using Profile = std::function<double(double)>;
-double Zero(double) { return 0.0; }
-
-// A road.h5 sampled every metre from its curvature (road.h5's sign: left positive) and slope
-// along s, with the vertical curvature nu = dsigma/ds and the torsion tau = tan(sigma) kappa that
-// go with them (eq. 12; docs/road_h5.md).
-RoadArtefact SyntheticRoad(double length, double width, const Profile& kappa,
-                           const Profile& sigma) {
-  RoadArtefact r;
-  for (int i = 0; i <= static_cast<int>(length); ++i) {
-    const double s = i;
-    r.s.push_back(s);
-    r.kappa.push_back(kappa(s));
-    r.sigma.push_back(sigma(s));
-    r.nu.push_back(sigma(s + 0.5) - sigma(s - 0.5));
-    r.tau.push_back(std::tan(sigma(s)) * kappa(s));
-    r.width.push_back(width);
-  }
-  return r;
-}
+using testing::SyntheticRoad;
+using testing::Zero;
 
 // The optimal lap from the QSS guess: the one place that calls a solver (the Ipopt oracle now; the
 // indirect solver, lap/solver/indirect.h, once it converges on bends).

@@ -13,6 +13,7 @@
 #include "lap/qss.h"
 #include "lap/solver/direct_node.h"
 #include "lap/solver/indirect.h"
+#include "lap/testing/synthetic_road.h"
 
 namespace ttz::lap {
 namespace {
@@ -79,15 +80,7 @@ TEST(IpoptDirectTest, NodeJacobianAndHessianMatchCentralDifferences) {
   ExpectRowsNear(H, H_num, "Hessian");
 }
 
-RoadArtefact StraightRoad(double length) {
-  RoadArtefact r;
-  for (int i = 0; i <= static_cast<int>(length); ++i) {
-    r.s.push_back(i);
-    for (auto* f : {&r.kappa, &r.nu, &r.tau, &r.sigma}) f->push_back(0.0);
-    r.width.push_back(8.0);
-  }
-  return r;
-}
+using testing::StraightRoad;
 
 // Both solvers start from the QSS guess, which is symmetric (n = alpha = phi = 0), and stay on
 // the symmetric (straight-line) solution. It is a saddle of this model: from a guess perturbed by
