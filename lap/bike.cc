@@ -183,6 +183,10 @@ const std::vector<KeySpec>& Keys() {
                "contact point kept this far inside each border [m]"),
       TTZ_REAL("limits", "brake_torque_max_n_m", limits.brake_torque_max, kPositive,
                "largest brake torque at the wheel [N m] (bounds the control tau_w)"),
+      TTZ_REAL("limits", "yaw_acceleration_weight_s4_per_rad2", limits.yaw_accel_weight, kPositive,
+               "c_y [s^4/rad^2], cost of the yaw acceleration: lap time + c_y int (dOmega_z/dt)^2 dt"),
+      TTZ_REAL("limits", "torque_rate_weight_s3_per_n2_m2", limits.torque_rate_weight, kPositive,
+               "c_t [s^3/(N m)^2], cost of the torque rate: lap time + c_t int (dtau_w/dt)^2 dt"),
   };
   return keys;
 }

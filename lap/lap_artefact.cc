@@ -14,7 +14,8 @@ namespace {
 
 // Units of the costates of the physical states: dt/dx_i along the lap, [s / unit of x_i].
 constexpr std::array<const char*, kNumStates> kCostateUnits = {
-    "s/m", "s/rad", "s^2/m", "s/rad", "s/m", "s/rad", "s^2/rad", "s/K", "s/J", "s^2/rad", "s^2/m"};
+    "s/m", "s/rad", "s^2/m", "s/rad", "s/m", "s/rad", "s^2/rad", "s/K", "s/J", "s^2/rad", "s^2/m",
+    "s^2/rad", "s/(N m)"};
 
 struct ChannelSpec {
   const char* name;
@@ -79,7 +80,7 @@ void WriteAlongS(ArtefactWriter& w, const Vehicle& v, const LapSolution& sol, co
   }
   for (int i = 0; i < kNumControls; ++i) {
     const std::string name = kControlNames[i];
-    w.WriteVector("control/" + name, Column(sol.u, i), kControlUnits[i], "control " + name + " (eq. 35)");
+    w.WriteVector("control/" + name, Column(sol.u, i), kControlUnits[i], "control " + name + " (lap/model/state.h)");
   }
   for (const ChannelSpec& c : kChannels) w.WriteVector(c.name, ch.*c.member, c.units, c.description);
   for (int j = 0; j < kNumConstraints; ++j)

@@ -1,4 +1,4 @@
-// lap.h5: the optimal lap on its arc-length mesh (schema "ttz.lap", version 1), and the part of it
+// lap.h5: the optimal lap on its arc-length mesh (schema "ttz.lap", version 2), and the part of it
 // that warm-starts another solve (`lap --init`). Every dataset, unit and attribute is documented
 // in docs/lap_h5.md.
 #pragma once
@@ -16,7 +16,7 @@
 namespace ttz::lap {
 
 inline constexpr const char* kLapSchema = "ttz.lap";
-inline constexpr int kLapSchemaVersion = 1;
+inline constexpr int kLapSchemaVersion = 2;  // 2: Omega_z a state, dOmega_z_dt a control
 
 // What lap.h5 records about the run besides the solution.
 struct LapProvenance {

@@ -36,7 +36,7 @@ void FillNode(const Vehicle& v, const StateVector<double>& x, const ControlVecto
   // Lateral acceleration: V Omega_z, the centripetal acceleration of the yawing frame (eq. 11),
   // exact in steady cornering (V^2 / R on a circle of radius R). The kinematic one adds
   // d(v_y)/dt = -d(V beta)/dt, which follows the fast sideslip dynamics and is small.
-  c->accel_lat[k] = x[kV] * u[kOmegaZ];
+  c->accel_lat[k] = x[kV] * x[kOmegaZ];
   c->tyre_load[k] = m.tyre.N;
   c->tyre_force_x[k] = m.tyre.F_x;
   c->tyre_force_y[k] = m.tyre.F_y;

@@ -44,9 +44,11 @@ LapSolution HandMadeLap(const Vehicle& v) {
     x[kOmegaW] = 1.01 * V / (v.r - x[kZ]);
     x[kT] = 40.0;
     x[kE] = v.e0 - 1e4 * k;
+    x[kOmegaZ] = V * kappa_model;
+    x[kTauW] = k + 1 < kNodes ? 200.0 : -300.0;
     sol.s.push_back(kSpacing * k);
     sol.x.push_back(x);
-    sol.u.push_back({V * kappa_model, k + 1 < kNodes ? 200.0 : -300.0});
+    sol.u.push_back({0.0, 0.0});
     sol.t.push_back(k == 0 ? 0.0 : sol.t.back() + kSpacing / (0.5 * (V + sol.x[k - 1][kV])));
   }
   sol.lambda.assign(kNodes, StateVector<double>{});

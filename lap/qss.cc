@@ -53,7 +53,7 @@ struct Motion {
   double V, a, T, e;
 };
 
-// The model's state on the centre line (n = 0) with no roll or vertical rate.
+// The model's state on the centre line (n = 0) with no roll, vertical or yaw-rate change.
 template <typename J>
 StateVector<J> StateOf(const Motion& mo, const std::array<J, kNumQuasi>& q) {
   StateVector<J> x;
@@ -68,6 +68,8 @@ StateVector<J> StateOf(const Motion& mo, const std::array<J, kNumQuasi>& q) {
   x[kE] = Cst<J>(mo.e);
   x[kOmegaPhi] = Cst<J>(0.0);
   x[kZdot] = Cst<J>(0.0);
+  x[kOmegaZ] = q[kQOmegaZ];
+  x[kTauW] = q[kQTauW];
   return x;
 }
 
@@ -79,7 +81,7 @@ template <typename J>
 std::array<J, kNumQuasi> QuasiSteadyResidual(const Vehicle& v, const RoadPoint& rp,
                                              const Motion& mo, const std::array<J, kNumQuasi>& q,
                                              J* F_x) {
-  const ControlVector<J> u = {q[kQOmegaZ], q[kQTauW]};
+  const ControlVector<J> u = {Cst<J>(0.0), Cst<J>(0.0)};
   const ModelPoint<J> m = EvaluateModel(v, StateOf(mo, q), u, rp);
   *F_x = m.tyre.F_x;
   return {m.acc[kVdot] - mo.a,
@@ -96,8 +98,6 @@ StateVector<double> StateAt(const Motion& mo, const QuasiVector& q) {
   std::copy(q.data(), q.data() + kNumQuasi, qd.begin());
   return StateOf(mo, qd);
 }
-
-ControlVector<double> ControlAt(const QuasiVector& q) { return {q[kQOmegaZ], q[kQTauW]}; }
 
 // A solved node: the quasi-steady unknowns q at `mo`, the model there, and how the wheel torque,
 // wheel speed and tyre force move with the acceleration at fixed speed (implicit-function theorem
@@ -151,7 +151,7 @@ bool Newton(const Vehicle& v, const RoadPoint& rp, const Motion& mo, NodePoint* 
       np->q = q;
       np->dq_da = -lu.solve(dr_da);
       np->dFx_da = F_x.v.dot(np->dq_da);
-      np->m = EvaluateModel(v, StateAt(mo, q), ControlAt(q), rp);
+      np->m = EvaluateModel(v, StateAt(mo, q), ControlVector<double>{}, rp);
       return true;
     }
     q -= lu.solve(res);
@@ -172,7 +172,7 @@ void Solve(const Vehicle& v, const RoadPoint& rp, const Motion& mo, NodePoint* n
   np->dq_da.setZero();
   np->dq_da[kQTauW] = v.M * (v.r - np->q[kQZ]) + v.I_wy * np->q[kQOmegaW] / mo.V;
   np->dFx_da = v.M;
-  np->m = EvaluateModel(v, StateAt(mo, np->q), ControlAt(np->q), rp);
+  np->m = EvaluateModel(v, StateAt(mo, np->q), ControlVector<double>{}, rp);
 }
 
 // ---- Limits on the acceleration at a node ----------------------------------------------------
@@ -332,7 +332,8 @@ double Slope(const std::vector<double>& s, const std::vector<double>& f, int i) 
 }
 
 // The lap from the nodes: time by the trapezoidal rule, states and controls, the roll and
-// vertical rates from the lean and the compression along s (omega_phi = V dphi/ds, eq. 34).
+// vertical rates from the lean and the compression along s (omega_phi = V dphi/ds, eq. 34), the
+// controls from the yaw rate and the wheel torque along s (dOmega_z/dt = V dOmega_z/ds, ...).
 QssLap Assemble(const std::vector<double>& mesh, const std::vector<NodePoint>& nodes) {
   const int n = static_cast<int>(mesh.size());
   QssLap q;
@@ -341,20 +342,22 @@ QssLap Assemble(const std::vector<double>& mesh, const std::vector<NodePoint>& n
   q.t.assign(n, 0.0);
   q.x.resize(n);
   q.u.resize(n);
-  std::vector<double> phi(n), z(n);
+  std::vector<double> phi(n), z(n), yaw_rate(n), torque(n);
   for (int i = 0; i < n; ++i) {
     const NodePoint& np = nodes[i];
     q.V[i] = np.mo.V;
     phi[i] = np.q[kQPhi];
     z[i] = np.q[kQZ];
+    yaw_rate[i] = np.q[kQOmegaZ];
+    torque[i] = np.q[kQTauW];
     q.x[i] = StateAt(np.mo, np.q);
-    q.u[i] = ControlAt(np.q);
     if (i > 0)
       q.t[i] = q.t[i - 1] + 0.5 * (mesh[i] - mesh[i - 1]) * (1.0 / q.V[i - 1] + 1.0 / q.V[i]);
   }
   for (int i = 0; i < n; ++i) {
     q.x[i][kOmegaPhi] = q.V[i] * Slope(mesh, phi, i);
     q.x[i][kZdot] = q.V[i] * Slope(mesh, z, i);
+    q.u[i] = {q.V[i] * Slope(mesh, yaw_rate, i), q.V[i] * Slope(mesh, torque, i)};
   }
   q.lap_time = q.t.back();
   return q;

@@ -41,8 +41,8 @@ constexpr int kMaxStepsPerInterval = 10000;
 // Floor of the energy's scale, relative to the pack (see resimulate.h).
 constexpr double kEnergyFloor = 0.01;
 
-// dy/ds on mesh interval k: x' (eq. 36-37) and t' = 1 / sdot (eq. 38), with the controls linear
-// in s between u_k and u_{k+1} (resimulate.h says why).
+// dy/ds on mesh interval k: x' (eq. 36-37) and t' = 1 / sdot (eq. 38), with the interval's own
+// control when the solution carries them, else the controls linear in s between u_k and u_{k+1}.
 class Slope {
  public:
   Slope(const Vehicle& v, const RoadTrack& road, const LapSolution& sol) : v_(v), road_(road), sol_(sol) {}
@@ -51,7 +51,10 @@ class Slope {
   bool operator()(size_t k, double s, const Y& y, Y* dy) const {
     const double w = (s - sol_.s[k]) / (sol_.s[k + 1] - sol_.s[k]);
     ControlVector<double> u;
-    for (int i = 0; i < kNumControls; ++i) u[i] = (1.0 - w) * sol_.u[k][i] + w * sol_.u[k + 1][i];
+    for (int i = 0; i < kNumControls; ++i)
+      u[i] = sol_.u_interval.size() + 1 == sol_.s.size()
+                 ? sol_.u_interval[k][i]
+                 : (1.0 - w) * sol_.u[k][i] + w * sol_.u[k + 1][i];
     StateVector<double> x;
     std::copy_n(y.begin(), kNumStates, x.begin());
     const ModelPoint<double> m = EvaluateModel(v_, x, u, road_.At(s));

@@ -4,11 +4,9 @@
 //
 // What is integrated: x' = dx/ds = f(x, u(s), road(s)) (eq. 36-37, lap/model/dynamics.h) and
 // t' = 1 / sdot (eq. 38, sdot from eq. 10a), with
-// - the controls piecewise linear in s through the solution's node values. Both solvers use the
-//   implicit midpoint rule with one control per interval (lap/solver/transcription.h); a
-//   LapSolution reports at each node the mean of its two intervals' controls, so this reading
-//   is a second-order approximation of the held interval controls, not their exact reading
-//   (carrying the interval controls in LapSolution would make it exact).
+// - the controls held constant on each mesh interval at the solution's `u_interval`, as both
+//   solvers' implicit midpoint rule has them (lap/solver/transcription.h); for a solution without
+//   them (a hand-made lap), piecewise linear in s through the node values `u`.
 // - the road evaluated at every stage by RoadTrack::At;
 // - the adaptive Dormand-Prince 5(4) pair, each mesh interval in at least `min_substeps` steps
 //   ending on its nodes (the controls' kinks). Adaptive because the model is stiff: the wheel's
@@ -17,8 +15,8 @@
 //   -2.8) diverges, and the tyre's vertical mode (-1.7 +- 26.2i /s, 4.2 Hz) needs a few steps
 //   per period.
 //
-// Why windows: the bike's roll is an inverted pendulum. With the yaw rate prescribed as a
-// control (eq. 35) the forward integration has one unstable mode, measured at +3.8 to +4.2 /s
+// Why windows: the bike's roll is an inverted pendulum. With the yaw rate prescribed (a state
+// driven by the control dOmega_z/dt, lap/model/state.h) the forward integration has one unstable mode, measured at +3.8 to +4.2 /s
 // (time constant 0.24 to 0.27 s) on a straight and on a 50 m radius bend, whatever the speed.
 // Any difference between the transcription (second order in h) and the true dynamics, and even
 // rounding, grows by e every quarter second: integrated open loop, the bike falls over (measured,

@@ -24,16 +24,16 @@ const Vehicle& Bike() {
 
 using testing::StraightRoad;
 
-// The wheel torque of the hand-made lap, linear in s [N m]: the re-simulation's piecewise-linear
-// controls reproduce it exactly.
-double Torque(double s) { return 350.0 - 1.5 * s; }
+// The wheel torque's rate of the hand-made lap, linear in s [N m/s]: the re-simulation's
+// piecewise-linear controls reproduce it exactly.
+double TorqueRate(double s) { return -100.0 + 1.0 * s; }
 
 using Augmented = std::array<double, kNumStates + 1>;  // the states and t
 
 Augmented Slope(const RoadTrack& road, double s, const Augmented& y) {
   StateVector<double> x;
   std::copy_n(y.begin(), kNumStates, x.begin());
-  const ModelPoint<double> m = EvaluateModel(Bike(), x, ControlVector<double>{0.0, Torque(s)}, road.At(s));
+  const ModelPoint<double> m = EvaluateModel(Bike(), x, ControlVector<double>{0.0, TorqueRate(s)}, road.At(s));
   Augmented dy;
   std::copy(m.dx_ds.begin(), m.dx_ds.end(), dy.begin());
   dy[kNumStates] = 1.0 / m.kin.sdot;
@@ -66,7 +66,7 @@ LapSolution HandMadeLap(const RoadTrack& road, double ds) {
   for (size_t k = 0;; ++k) {
     sol.x.emplace_back();
     std::copy_n(y.begin(), kNumStates, sol.x.back().begin());
-    sol.u.push_back({0.0, Torque(sol.s[k])});
+    sol.u.push_back({0.0, TorqueRate(sol.s[k])});
     sol.t.push_back(y[kNumStates]);
     if (k + 1 == sol.s.size()) break;
     const double h = (sol.s[k + 1] - sol.s[k]) / substeps;
@@ -89,7 +89,7 @@ TEST(ResimulateTest, AConsistentLapReSimulatesToTheIntegratorsAccuracy) {
 TEST(ResimulateTest, OneControlFarOffFails) {
   const RoadTrack road(StraightRoad(100.0));
   LapSolution sol = HandMadeLap(road, 2.0);
-  sol.u[20][kTauW] += 400.0;  // at s = 40 m
+  sol.u[20][kTorqueRate] += 4000.0;  // at s = 40 m
   const ResimReport r = Resimulate(Bike(), road, sol, ResimOptions{});
   EXPECT_FALSE(r.passed);
   EXPECT_GT(r.max_state_difference_all, 1e-2);

@@ -128,7 +128,7 @@ TEST_F(LapCli, AStraightRoadSolvesWritesLapH5AndWarmStartsTheNextSolve) {
   EXPECT_NE(run.stdout_text.find("converged      yes"), std::string::npos) << run.stdout_text;
 
   const std::string lap = Path("lap.h5");
-  const ttz::ArtefactReader r(lap, "ttz.lap", 1);
+  const ttz::ArtefactReader r(lap, "ttz.lap", 2);
   EXPECT_TRUE(r.ReadBoolAttribute("converged"));
   EXPECT_EQ(r.ReadStringAttribute("road_sha256"), ttz::FileSha256(road));
   EXPECT_EQ(r.ReadIntAttribute("nodes"), 101);
@@ -150,7 +150,7 @@ TEST_F(LapCli, AStraightRoadSolvesWritesLapH5AndWarmStartsTheNextSolve) {
   EXPECT_EQ(std::count(warm.stdout_text.begin(), warm.stdout_text.end(), '\n'), 1) << warm.stdout_text;
   EXPECT_NE(warm.stdout_text.find("\"lap_time\": "), std::string::npos) << warm.stdout_text;
   EXPECT_NE(warm.stdout_text.find("\"converged\": true"), std::string::npos) << warm.stdout_text;
-  const ttz::ArtefactReader w(Path("warm.h5"), "ttz.lap", 1);
+  const ttz::ArtefactReader w(Path("warm.h5"), "ttz.lap", 2);
   EXPECT_EQ(w.ReadStringAttribute("init_file"), lap);
   EXPECT_NEAR(w.ReadDoubleAttribute("lap_time"), r.ReadDoubleAttribute("lap_time"), 0.01 * t.back());
 
@@ -165,7 +165,7 @@ TEST_F(LapCli, TheIpoptOracleSolvesAndWarmStartsTheIndirectSolver) {
   const std::string road = Road("straight100.h5", StraightRoad(100.0));
   const CliRun ipopt = Lap(road + " " + kBike + " --ds 1 -q --solver ipopt", "ipopt.h5");
   ASSERT_EQ(ipopt.exit_code, 0) << ipopt.stderr_text << ipopt.stdout_text;
-  const ttz::ArtefactReader r(Path("ipopt.h5"), "ttz.lap", 1);
+  const ttz::ArtefactReader r(Path("ipopt.h5"), "ttz.lap", 2);
   EXPECT_EQ(r.ReadStringAttribute("solver"), "ipopt");
   EXPECT_EQ(r.ReadDoubleAttribute("eps"), 0.0);
   EXPECT_TRUE(r.ReadBoolAttribute("converged"));
@@ -176,7 +176,7 @@ TEST_F(LapCli, TheIpoptOracleSolvesAndWarmStartsTheIndirectSolver) {
 
   const CliRun warm = Lap(road + " " + kBike + " --ds 1 -q --init " + Path("ipopt.h5"), "warm.h5");
   ASSERT_EQ(warm.exit_code, 0) << warm.stderr_text << warm.stdout_text;
-  const ttz::ArtefactReader w(Path("warm.h5"), "ttz.lap", 1);
+  const ttz::ArtefactReader w(Path("warm.h5"), "ttz.lap", 2);
   EXPECT_EQ(w.ReadStringAttribute("solver"), "indirect");
   EXPECT_NEAR(w.ReadDoubleAttribute("lap_time_extrapolated"), r.ReadDoubleAttribute("lap_time"),
               1e-3 * r.ReadDoubleAttribute("lap_time"));
@@ -196,7 +196,7 @@ TEST_F(LapCli, AConvergedSolveThatFailsTheReSimulationExits3) {
   EXPECT_TRUE(std::regex_search(run.stdout_text, std::regex("re-simulation  lap time differs by [0-9.]+ %, "
                                                             "states by [0-9.]+ % \\(failed\\)\n")))
       << run.stdout_text;
-  const ttz::ArtefactReader r(Path("lap.h5"), "ttz.lap", 1);
+  const ttz::ArtefactReader r(Path("lap.h5"), "ttz.lap", 2);
   EXPECT_FALSE(r.ReadBoolAttribute("converged"));
   EXPECT_FALSE(r.ReadBoolAttribute("resim_passed"));
   EXPECT_GT(r.ReadDoubleAttribute("resim_max_state_difference"), 1e-3);
@@ -211,7 +211,7 @@ TEST_F(LapCli, ASolveThatDoesNotConvergeExits3AndStillWritesLapH5) {
   EXPECT_NE(run.stderr_text.find("the solve did not converge (continuation failed at eps 1;"), std::string::npos)
       << run.stderr_text;
   EXPECT_NE(run.stdout_text.find("converged      no ("), std::string::npos) << run.stdout_text;
-  const ttz::ArtefactReader r(Path("lap.h5"), "ttz.lap", 1);
+  const ttz::ArtefactReader r(Path("lap.h5"), "ttz.lap", 2);
   EXPECT_FALSE(r.ReadBoolAttribute("converged"));
   EXPECT_NE(r.ReadStringAttribute("message").find("continuation failed"), std::string::npos);
 }
@@ -223,7 +223,7 @@ TEST_F(LapCli, RoadMissing) {
 TEST_F(LapCli, RoadOfAnotherSchema) {
   ExpectBadInput(Lap(kBike + " " + kBike), kBike + ": not an HDF5 file (a ttz.road artefact expected)");
   {
-    ttz::ArtefactWriter w(Path("a_lap.h5"), "ttz.lap", 1);
+    ttz::ArtefactWriter w(Path("a_lap.h5"), "ttz.lap", 2);
     w.Commit();
   }
   ExpectBadInput(Lap(Path("a_lap.h5") + " " + kBike),

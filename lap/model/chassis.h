@@ -5,7 +5,7 @@
 //
 // Decisions (see docs/lap.md): the paper's small-slope approximation sigma ~ sin(sigma) is replaced
 // by sin(sigma) (road.h5 defines dz/ds = sin(sigma)), cos(sigma) ~ 1 is kept as in the paper;
-// dOmega_z/dt is zero (kinematics.h).
+// the dOmega_z/dt terms of eq. 13a and 16 are kept (Omega_z is a state, lap/model/state.h).
 #pragma once
 
 #include <array>
@@ -48,9 +48,9 @@ Equations<T> NewtonEuler(const Vehicle& v, const StateVector<T>& x, const Kinema
   const A zdd = A::Unit(kZddot), phidd = A::Unit(kPhiddot), wd = A::Unit(kOmegaWdot);
   Equations<T> e;
 
-  // eq. 13a (the -M sin(phi) (h - r_t) dOmega_z/dt term is zero)
+  // eq. 13a
   e[0] = k.dv_x * Cst<T>(M) + k.dOmega_y * ((cp * (-a) - r_t + z) * M) +
-         A(-2.0 * M * a * (Oz * cp - Oy * sp) * phid + 2.0 * M * Oy * zd -
+         A(-2.0 * M * a * (Oz * cp - Oy * sp) * phid - M * sp * a * k.dOmega_z + 2.0 * M * Oy * zd -
            M * Ox * Oz * a * cp + M * Ox * Oy * a * sp + M * ((z - r_t) * Ox + vy) * Oz +
            M * Oy * vz - (f.F_x - f.D - M * gs * cal));
   // eq. 13b
@@ -78,10 +78,10 @@ Equations<T> NewtonEuler(const Vehicle& v, const StateVector<T>& x, const Kinema
          A((Oz * cp - Oy * sp) * v.I_gy * x[kOmegaW] + sp * (z - r_t) * f.L +
            (v.I_yy - v.I_zz) * (cp * sp * (Oy * Oy - Oz * Oz) + Oy * Oz * (1.0 - 2.0 * cp * cp))) +
          T_phi * Cst<T>(M);
-  // eq. 16 (the sin(phi) dOmega_z/dt term is zero)
+  // eq. 16
   e[4] = wd * Cst<T>(v.I_wy) - k.dOmega_y * (v.I_wy * cp) +
          A(-f.tau_w + f.tau_r + f.F_x * (v.r - v.r_t * (1.0 - cp) - z * cp) -
-           v.I_wy * (Oz * cp - Oy * sp) * phid);
+           v.I_wy * (sp * k.dOmega_z + (Oz * cp - Oy * sp) * phid));
   return e;
 }
 

@@ -46,15 +46,15 @@ ConstraintVector<T> EvaluateConstraints(const Vehicle& v, const StateVector<T>& 
   g[kBorderLeft] = -x[kN] / half - 1.0;
   g[kRollRateMax] = x[kOmegaPhi] / v.omega_phi_max - 1.0;
   g[kRollRateMin] = -x[kOmegaPhi] / v.omega_phi_max - 1.0;
-  g[kYawRateMax] = u[kOmegaZ] / v.Omega_z_max - 1.0;
-  g[kYawRateMin] = -u[kOmegaZ] / v.Omega_z_max - 1.0;
+  g[kYawRateMax] = x[kOmegaZ] / v.Omega_z_max - 1.0;
+  g[kYawRateMin] = -x[kOmegaZ] / v.Omega_z_max - 1.0;
   g[kAdherence] = m.tyre.ellipse - 1.0;
   g[kMotorCurrent] = m.power.i_m / v.motor.current_max - 1.0;
   g[kBatteryPower] = m.power.P_b / v.P_b_max - 1.0;
   g[kCharge] = -x[kE] / v.pack.e_i;
   g[kMotorVoltageMax] = m.power.V_mm / v.motor.voltage_max - 1.0;
   g[kMotorVoltagePack] = (m.power.V_mm - m.power.V_mb) / v.motor.voltage_max;
-  g[kBrakeTorque] = -u[kTauW] / v.brake_torque_max - 1.0;
+  g[kBrakeTorque] = -x[kTauW] / v.brake_torque_max - 1.0;
   return g;
 }
 

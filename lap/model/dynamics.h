@@ -26,8 +26,8 @@ ModelPoint<T> EvaluateModel(const Vehicle& v, const StateVector<T>& x, const Con
   m.kin = ComputeKinematics(x, u, road);
   m.tyre = ComputeTyre(v, x[kV], x[kBeta], x[kZ], x[kPhi], x[kOmegaW], x[kZdot]);
   ComputeAero(v, x[kV], &m.D, &m.L);
-  m.power = ComputePowertrain(v, u[kTauW], x[kOmegaW], x[kV], x[kT], x[kE]);
-  const ChassisLoads<T> loads{m.tyre.F_x, m.tyre.F_y, m.tyre.N, m.D, m.L, u[kTauW], m.tyre.tau_r};
+  m.power = ComputePowertrain(v, x[kTauW], x[kOmegaW], x[kV], x[kT], x[kE]);
+  const ChassisLoads<T> loads{m.tyre.F_x, m.tyre.F_y, m.tyre.N, m.D, m.L, x[kTauW], m.tyre.tau_r};
   m.acc = SolveAccelerations(NewtonEuler(v, x, m.kin, loads, road));
   const T inv_sdot = 1.0 / m.kin.sdot;  // eq. 37: x' = x_dot / sdot
   StateVector<T>& f = m.dx_ds;
@@ -42,6 +42,8 @@ ModelPoint<T> EvaluateModel(const Vehicle& v, const StateVector<T>& x, const Con
   f[kE] = m.power.e_dot * inv_sdot;
   f[kOmegaPhi] = m.acc[kPhiddot] * inv_sdot;
   f[kZdot] = m.acc[kZddot] * inv_sdot;
+  f[kOmegaZ] = u[kYawAccel] * inv_sdot;
+  f[kTauW] = u[kTorqueRate] * inv_sdot;
   return m;
 }
 

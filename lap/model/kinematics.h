@@ -50,8 +50,7 @@ struct Kinematics {
   T v_x, v_y, v_z;                  // eq. 11b [m/s]
   Affine<T> dv_x, dv_y, dv_z;       // time derivatives of v_x, v_y, v_z [m/s^2]
   Affine<T> dOmega_x, dOmega_y;     // time derivatives of Omega_x, Omega_y [rad/s^2]
-  // dOmega_z/dt is zero: Omega_z is a control, and the paper's state-space form A x' = f(x, u)
-  // (eq. 36) has no control derivative, so its terms in eq. 13a and 16 are dropped.
+  T dOmega_z;                       // the control dOmega_z/dt [rad/s^2] (state.h)
 };
 
 template <typename T>
@@ -69,7 +68,8 @@ Kinematics<T> ComputeKinematics(const StateVector<T>& x, const ControlVector<T>&
   const T c = beta * sa + ca;               // beta sin(alpha) + cos(alpha)
   k.sdot = V * c / D;                                       // eq. 10a
   k.ndot = V * sa - V * beta * ca;                          // eq. 10b
-  k.Omega_z = u[kOmegaZ];
+  k.Omega_z = x[kOmegaZ];
+  k.dOmega_z = u[kYawAccel];
   k.alphadot = k.Omega_z - road.kappa * (V * ca + V * beta * sa) / D;  // eq. 10c
   const T P = road.nu * sa + road.tau * ca;
   const T Q = road.nu * ca - road.tau * sa;

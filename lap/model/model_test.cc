@@ -44,6 +44,8 @@ StateVector<double> SomeState(const Vehicle& v, double V) {
   x[kE] = 0.6 * v.pack.e_i;
   x[kOmegaPhi] = 0.1;
   x[kZdot] = 0.01;
+  x[kOmegaZ] = 0.12;
+  x[kTauW] = 300.0;
   return x;
 }
 
@@ -74,8 +76,8 @@ TEST(ModelTest, DerivativesMatchNumericalDifferentiation) {
   std::array<double, kIn> p;
   const StateVector<double> x = SomeState(v, 30.0);
   std::copy(x.begin(), x.end(), p.begin());
-  p[kNumStates + kOmegaZ] = 0.12;
-  p[kNumStates + kTauW] = 300.0;
+  p[kNumStates + kYawAccel] = 0.4;
+  p[kNumStates + kTorqueRate] = 500.0;
   using J = ceres::Jet<double, kIn>;
   std::array<J, kIn> pj;
   for (int i = 0; i < kIn; ++i) pj[i] = J(p[i], i);
@@ -117,7 +119,7 @@ TEST(ModelTest, SecondDerivativesOfNestedJetsMatchDifferencesOfFirst) {
   const J2 f2 = EvaluateModel(v, x2, u2, Curvy()).dx_ds[kV];
   for (int j = 0; j < kNumStates; ++j) {
     StateVector<double> xp = x0, xm = x0;
-    const double h = 1e-6 * std::max(1.0, std::abs(x0[j]));
+    const double h = 1e-5 * std::max(1.0, std::abs(x0[j]));
     xp[j] += h;
     xm[j] -= h;
     const J1 fp = first(xp), fm = first(xm);
@@ -167,7 +169,8 @@ TEST(ModelTest, SteadyLeanBalancesTheRollEquation) {
     x[kT] = 40.0;
     x[kE] = v.pack.e_i;
     x[kOmegaW] = V / (v.r - v.r_t + std::cos(phi) * (v.r_t - x[kZ]));
-    return EvaluateModel(v, x, ControlVector<double>{Oz, 0.0}, road).acc[kPhiddot];
+    x[kOmegaZ] = Oz;
+    return EvaluateModel(v, x, ControlVector<double>{0.0, 0.0}, road).acc[kPhiddot];
   };
   // Bisection for the equilibrium lean, then compare with the closed form of eq. 14-15 at z ~ 0:
   // M a (g sin(phi) - V Oz cos(phi)) - M r_t V Oz - I_gy w Oz cos(phi) + (I_yy - I_zz - M a^2)

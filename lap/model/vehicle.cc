@@ -35,6 +35,8 @@ Vehicle MakeVehicle(const BikeParams& p) {
   v.Omega_z_max = p.limits.Omega_z_max;
   v.border_margin = p.limits.border_margin;
   v.brake_torque_max = p.limits.brake_torque_max;
+  v.yaw_accel_weight = p.limits.yaw_accel_weight;
+  v.torque_rate_weight = p.limits.torque_rate_weight;
   v.V0 = p.initial.V;
   v.T0 = p.initial.T;
   v.e0 = InitialEnergy(p);

@@ -34,6 +34,8 @@ struct Vehicle {
   double omega_phi_max, Omega_z_max;  // [rad/s]
   double border_margin;               // [m]
   double brake_torque_max;            // [N m] at the wheel
+  double yaw_accel_weight;            // c_y [s^4/rad^2] (cost.h)
+  double torque_rate_weight;          // c_t [s^3/(N m)^2] (cost.h)
   // Initial state.
   double V0, T0, e0;  // [m/s], [degC], [J]
   // Smoothing widths of f+ / f- (smooth.h).

@@ -4,6 +4,7 @@
 //
 //   y(z) = ( x~' = x' / S  (eq. 36-37, lap/model/dynamics.h),
 //            1 / sdot      (the time per metre of the objective, eq. 37-38),
+//            (c_y (dOmega_z/dt)^2 + c_t (dtau_w/dt)^2) / sdot (the effort of the objective, cost.h),
 //            g_j(x, u)     (eq. 39a-g, the voltage limits and the brake bound, constraints.h) ),
 //
 // their Jacobian dy/dz by Jets, and the Hessian of any weighted sum w^T y by nested Jets (the
@@ -22,10 +23,11 @@ namespace ttz::lap {
 
 inline constexpr int kNodeVars = kNumStates + kNumControls;  // z = (x~, u~)
 
-// Positions in y: x~' first, then 1 / sdot, then the constraints.
+// Positions in y: x~' first, then 1 / sdot and the steering effort, then the constraints.
 inline constexpr int kOutDxDs = 0;
 inline constexpr int kOutTime = kNumStates;
-inline constexpr int kOutG = kNumStates + 1;
+inline constexpr int kOutEffort = kNumStates + 1;
+inline constexpr int kOutG = kNumStates + 2;
 inline constexpr int kNumNodeOutputs = kOutG + kNumConstraints;
 
 using NodePoint = Eigen::Matrix<double, kNodeVars, 1>;

@@ -144,6 +144,7 @@ LapSolution NodeSolution(const Vehicle& v, const Transcription& tr, SolveSummary
   sol.x.resize(n);
   sol.lambda.resize(n);
   sol.u.assign(n, ControlVector<double>{});
+  sol.u_interval.assign(n - 1, ControlVector<double>{});
   sol.t.assign(n, 0.0);
   for (int k = 0; k < n; ++k)
     for (int i = 0; i < kNumStates; ++i) {
@@ -161,6 +162,7 @@ LapSolution NodeSolution(const Vehicle& v, const Transcription& tr, SolveSummary
     for (int i = 0; i < kNumStates; ++i) xm[i] = 0.5 * (sol.x[k][i] + sol.x[k + 1][i]);
     for (int i = 0; i < kNumControls; ++i) {
       um[i] = mid.u[i] * tr.sc.control[i];
+      sol.u_interval[k][i] = um[i];
       for (int node : {k, k + 1})
         sol.u[node][i] += um[i] * ((node == 0 || node == n - 1) ? 1.0 : 0.5);
     }

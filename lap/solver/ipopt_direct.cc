@@ -125,12 +125,21 @@ double LapTime(const Transcription& tr, const MidCache& cache) {
   return t;
 }
 
+// Effort sum_k h_k (lap/model/cost.h) at the interval midpoints of the cached values [s].
+double Effort(const Transcription& tr, const MidCache& cache) {
+  double e = 0.0;
+  for (int k = 0; k < tr.NumIntervals(); ++k) e += tr.h[k] * cache.y(k)(kOutEffort);
+  return e;
+}
+
 // The weights of interval k's outputs in the Lagrangian sigma f + sum lambda_r c_r, less the
-// defects' linear terms: sigma h_k on 1 / sdot, -h_k lambda_{k,i} on x~'_i, mu_{k,j} on g_j.
+// defects' linear terms: sigma h_k on 1 / sdot and on the effort, -h_k lambda_{k,i} on x~'_i,
+// mu_{k,j} on g_j.
 NodeOutputs IntervalWeights(const Transcription& tr, int k, double obj_factor,
                             const Number* lambda) {
   NodeOutputs w;
   w(kOutTime) = obj_factor * tr.h[k];
+  w(kOutEffort) = obj_factor * tr.h[k];
   for (int i = 0; i < kNumStates; ++i) w(kOutDxDs + i) = -tr.h[k] * lambda[tr.DefectRow(k, i)];
   for (int j = 0; j < kNumConstraints; ++j) w(kOutG + j) = lambda[tr.PathRow(k, j)];
   return w;
@@ -172,7 +181,7 @@ class LapNlp : public Ipopt::TNLP {
 
   bool eval_f(Index, const Number* x, bool new_x, Number& obj_value) final {
     if (!cache_.Update(x, new_x, false)) return false;
-    obj_value = LapTime(*tr_, cache_) + RateTerm(x);
+    obj_value = LapTime(*tr_, cache_) + Effort(*tr_, cache_) + RateTerm(x);
     return true;
   }
 
@@ -182,7 +191,8 @@ class LapNlp : public Ipopt::TNLP {
     for (int k = 0; k < tr_->NumIntervals(); ++k)
       for (int a = 0; a < kIntervalVars; ++a)
         grad_f[tr_->IntervalVar(k, a)] +=
-            tr_->h[k] * MidFactor(a) * cache_.J(k)(kOutTime, MidVar(a));
+            tr_->h[k] * MidFactor(a) *
+            (cache_.J(k)(kOutTime, MidVar(a)) + cache_.J(k)(kOutEffort, MidVar(a)));
     if (NumRatePairs() > 0)
       for (int k = 1; k < tr_->NumIntervals(); ++k)
         for (int i = 0; i < kNumControls; ++i) {
@@ -225,7 +235,7 @@ class LapNlp : public Ipopt::TNLP {
     return true;
   }
 
-  // Hessian of the Lagrangian: per interval, the 13 x 13 Hessian of w^T y (IntervalWeights) in
+  // Hessian of the Lagrangian: per interval, the (states + controls)-square Hessian of w^T y (IntervalWeights) in
   // z_mid by nested Jets, mapped to the interval's 24 unknowns by the chain factors 1/2 (states)
   // and 1 (controls). Neighbouring intervals share x~_k: Ipopt adds the duplicate entries.
   bool eval_h(Index, const Number* x, bool new_x, Number obj_factor, Index, const Number* lambda,
@@ -410,6 +420,7 @@ void CheckAnswer(const Transcription& tr, const std::vector<double>& x, const Mi
   const int n = tr.NumNodes();
   sol->x.resize(n);
   sol->u.assign(n, ControlVector<double>{});
+  sol->u_interval.assign(n - 1, ControlVector<double>{});
   sol->t.assign(n, 0.0);
   summary->max_violation.assign(kNumConstraints, -HUGE_VAL);
   summary->max_state_defect = 0.0;
@@ -418,6 +429,7 @@ void CheckAnswer(const Transcription& tr, const std::vector<double>& x, const Mi
   for (int k = 0; k + 1 < n; ++k) {
     for (int i = 0; i < kNumControls; ++i) {
       const double u = x[tr.Control(k, i)] * tr.sc.control[i];
+      sol->u_interval[k][i] = u;
       for (int node : {k, k + 1})
         sol->u[node][i] += u * ((node == 0 || node == n - 1) ? 1.0 : 0.5);
     }

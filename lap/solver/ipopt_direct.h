@@ -36,16 +36,13 @@ struct IpoptOptions {
   int max_iterations = 3000;
   // Ipopt's `print_level`: 0 silent, 5 one line per iteration and a final statistics block.
   int print_level = 0;
-  // c [s m] of the control-rate term c * integral |du~/ds|^2 ds (between interval midpoints)
-  // added to the objective; the reported lap time excludes it. Still needed with one control per
-  // interval: on a 300 m road, 8 m wide, with a 50 m radius bend from 100 to 220 m (curvature
-  // ramped over 20 m at each end), 2 m mesh, bx15, from the QSS guess, c = 0 rings in the braking
-  // torque (node values alternating by up to 500 N m, e.g. -3, -318, -672, -380 N m from 104 m)
-  // and takes 14.235 s in 244 iterations (11 s); c = 1e-5 still rings in the steering (+-0.09 rad
-  // node to node near 125 m), 14.255 s; c = 3e-5, 1e-4, 3e-4, 1e-3 are smooth and give 14.312,
-  // 14.313 (60 iterations, 4 s), 14.317, 14.324 s. On the straight of ipopt_direct_test the lap
-  // does not move between c = 0 and 1e-4 (10.943536 s both).
-  double control_rate_weight = 1e-4;
+  // c [s m] of an optional control-rate term c * integral |du~/ds|^2 ds (between interval
+  // midpoints) added to the objective; the reported lap time excludes it. Off by default: since
+  // Omega_z and tau_w became states (lap/model/state.h) with their rates' cost in the model
+  // (lap/model/cost.h), the answer is smooth without it, and the oracle solves the same problem as
+  // the indirect solver. Measured on the 300 m bend road of indirect_test (2 m mesh): c = 0,
+  // 14.3306 s in 34 iterations; c = 1e-4, 14.3315 s in 39.
+  double control_rate_weight = 0.0;
   // Ipopt's `mu_strategy`: "adaptive" or "monotone". Both converge on the roads above;
   // adaptive took 8 and 60 iterations (straight, bend), monotone 131 and 203.
   std::string mu_strategy = "adaptive";

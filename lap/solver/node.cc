@@ -149,8 +149,8 @@ void EvaluateNode(const Vehicle& v, const Scales& sc, const RoadPoint& road,
 
 Scales DefaultScales(const Vehicle& v) {
   Scales s;
-  s.state = {1.0, 0.1, 10.0, 0.01, 0.01, 0.1, 30.0, 10.0, v.pack.e_i, 0.1, 0.1};
-  s.control = {0.1, 100.0};
+  s.state = {1.0, 0.1, 10.0, 0.01, 0.01, 0.1, 30.0, 10.0, v.pack.e_i, 0.1, 0.1, 0.1, 100.0};
+  s.control = {1.0, 1000.0};
   return s;
 }
 

@@ -27,7 +27,7 @@ struct Fixture {
     road.sigma = 0.03;
     road.width = 8.0;
     const StateVector<double> x = {0.5, 0.02, 25.0, 0.005, 0.014, 0.15, 90.0, 45.0,
-                                   0.8 * v.pack.e_i, 0.05, 0.01};
+                                   0.8 * v.pack.e_i, 0.05, 0.01, 0.2, 150.0};
     for (int i = 0; i < kNumStates; ++i) {
       xs[i] = x[i] / sc.state[i];
       lambda[i] = 0.01 * ((i * 7) % 5 - 2);

@@ -23,7 +23,8 @@ struct LapSolution {
   std::vector<double> s;                       // mesh [m]
   std::vector<StateVector<double>> x;          // states (physical units)
   std::vector<StateVector<double>> lambda;     // costates of the scaled states [s]
-  std::vector<ControlVector<double>> u;        // controls (physical units)
+  std::vector<ControlVector<double>> u;        // controls at the nodes, mean of the intervals' (physical units)
+  std::vector<ControlVector<double>> u_interval;  // the transcription's control of each mesh interval
   std::vector<double> t;                       // time [s]
   double eps = 0.0;                            // barrier weight of this solution (0: none)
   double lap_time = 0.0;                       // at eps [s]
