@@ -18,6 +18,7 @@ namespace {
 class StopAtTolerance : public ceres::IterationCallback {
  public:
   explicit StopAtTolerance(double tol) : tol_(tol) {}
+  void set_tolerance(double tol) { tol_ = tol; }
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) final {
     return std::sqrt(2.0 * s.cost) <= tol_ ? ceres::SOLVER_TERMINATE_SUCCESSFULLY
                                            : ceres::SOLVER_CONTINUE;
@@ -80,6 +81,11 @@ Continuation RunContinuation(const IndirectOptions& options, Transcription* tr,
   int retries = 0;
   while (true) {
     const bool first = c.good.empty();
+    const bool last_step = eps <= options.eps_end * (1 + 1e-12);
+    // The path between the first and the last step need not be exact.
+    const double tolerance =
+        first || last_step ? options.residual_tolerance : options.path_tolerance;
+    stop.set_tolerance(tolerance);
     tr->weight = WeightFor(eps);
     so.use_nonmonotonic_steps = first;
     so.max_num_iterations = first ? options.max_iterations : options.max_step_iterations;
@@ -93,7 +99,7 @@ Continuation RunContinuation(const IndirectOptions& options, Transcription* tr,
     step.eps = eps;
     step.iterations = static_cast<int>(cs.iterations.size());
     step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    step.converged = tr->all_valid && max_all <= 10.0 * options.residual_tolerance;
+    step.converged = tr->all_valid && max_all <= 10.0 * tolerance;
     step.lap_time = tr->all_valid ? tr->LapTime() : 0.0;
     summary->iterations += step.iterations;
     summary->steps.push_back(step);
@@ -111,7 +117,7 @@ Continuation RunContinuation(const IndirectOptions& options, Transcription* tr,
       mids_good = tr->mids;
       retries = 0;
       for (NodeData& d : tr->mids) d.u_start = d.u;
-      if (eps <= options.eps_end * (1 + 1e-12)) break;
+      if (last_step) break;
       factor = std::max(options.eps_factor, factor * factor);  // back towards the full step
       eps = std::max(options.eps_end, eps * factor);
       continue;

@@ -27,6 +27,10 @@ struct IndirectOptions {
   int max_step_iterations = 60;  // of each later step (Newton from the last step: 5-15 when it
                                  // converges, and slow linear progress when it will not)
   double residual_tolerance = 1e-9;  // Ceres stops at ||residual|| <= this; a step must reach max 10x this
+  // The same for the steps between the first and the last: on a 5 km piece of the TT course
+  // (10 m mesh) the residuals' floor is ~1e-8 and with residual_tolerance every step there ran
+  // into its iteration limit (docs/lap.md).
+  double path_tolerance = 1e-7;
   double constraint_tolerance = 1e-4;  // largest allowed g_j > 0 (relative) in the answer
   int num_threads = 2;           // for the node evaluations and Ceres
   bool verbose = false;          // Ceres' per-iteration log
