@@ -1,0 +1,88 @@
+#!/usr/bin/python3
+"""lap_plots.py on tiny lap.h5 / road.h5 fixtures: every file written, bad input refused."""
+import os
+import tempfile
+import unittest
+
+import ttz_fixtures as fx
+
+PNGS_LAP = ("speed.png", "battery.png", "motor.png", "power.png", "yaw_roll.png")
+PNGS_ROAD = ("map.png", "elevation.png")
+
+
+class LapPlotsTest(fx.ScriptAssertions, unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.dir = self.tmp.name
+        self.out = os.path.join(self.dir, "out")
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def path(self, name):
+        return os.path.join(self.dir, name)
+
+    def assert_files(self, names):
+        """Each file written and non-empty (PNGs: a plot, over 1 kB)."""
+        for name in names:
+            path = os.path.join(self.out, name)
+            self.assertTrue(os.path.isfile(path), name)
+            self.assertGreater(os.path.getsize(path), 1000 if name.endswith(".png") else 0, name)
+
+    def test_all_plots_and_summary(self):
+        lap = fx.write_lap(self.path("lap.h5"))
+        road = fx.write_road(self.path("road.h5"))
+        self.assert_ok(fx.run("lap_plots.py", lap, "--road", road, "-o", self.out))
+        self.assert_files(PNGS_LAP + PNGS_ROAD)
+        with open(os.path.join(self.out, "summary.md")) as handle:
+            summary = handle.read()
+        self.assertIn("1:40.0", summary)       # lap_time 100 s
+        self.assertIn("3.00 MJ", summary)      # energy_used 3e6 J
+        self.assertIn("25.0 %", summary)       # energy_fraction 0.25
+        self.assertIn("30.0 m/s", summary)     # top_speed
+        self.assert_no_temporaries(self.out)
+
+    def test_omega_z_as_state_and_no_road(self):
+        lap = fx.write_lap(self.path("lap.h5"), omega_group="state", version=2)
+        self.assert_ok(fx.run("lap_plots.py", lap, "-o", self.out))
+        self.assert_files(PNGS_LAP + ("summary.md",))
+        for name in PNGS_ROAD:
+            self.assertFalse(os.path.exists(os.path.join(self.out, name)))
+
+    def refused(self, lap, *words, road=None):
+        args = [lap, "-o", self.out] + (["--road", road] if road else [])
+        line = self.assert_refused(fx.run("lap_plots.py", *args), *words)
+        self.assertFalse(os.path.exists(self.out) and os.listdir(self.out), "output written")
+        return line
+
+    def test_missing_file(self):
+        self.refused(self.path("absent.h5"), "absent.h5", "no such file")
+
+    def test_missing_dataset(self):
+        lap = fx.write_lap(self.path("lap.h5"), drop=("wheel/power",))
+        self.refused(lap, "lap.h5", "wheel/power")
+
+    def test_missing_omega_z(self):
+        lap = fx.write_lap(self.path("lap.h5"), drop=("control/Omega_z",))
+        self.refused(lap, "control/Omega_z", "state/Omega_z")
+
+    def test_wrong_schema(self):
+        lap = fx.write_lap(self.path("lap.h5"), schema="ttz.road")
+        self.refused(lap, "lap.h5", "ttz.road", "ttz.lap")
+
+    def test_wrong_version(self):
+        self.refused(fx.write_lap(self.path("lap.h5"), version=7), "version 7")
+
+    def test_road_of_another_lap(self):
+        lap = fx.write_lap(self.path("lap.h5"))
+        road = fx.write_road(self.path("road.h5"), length=2000.0)
+        self.refused(lap, "road.h5", "another road", road=road)
+
+    def test_not_hdf5(self):
+        with open(self.path("lap.h5"), "w") as handle:
+            handle.write("not hdf5\n")
+        self.refused(self.path("lap.h5"), "lap.h5", "HDF5")
+
+
+if __name__ == "__main__":
+    fx.main()
