@@ -1,0 +1,59 @@
+// Benchmark of the lap solvers on a piece of a road.h5 (e.g. the Snaefell course that `make run`
+// fits): both solvers from the QSS guess on a uniform mesh from 0 to LENGTH_M, printing lap time,
+// convergence, iterations, wall time, time per iteration and peak memory (not a test).
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "common/log.h"
+#include "common/road_artefact.h"
+#include "lap/bike.h"
+#include "lap/qss.h"
+#include "lap/solver/indirect.h"
+#include "lap/solver/ipopt_direct.h"
+
+namespace {
+
+double PeakMegabytes() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_maxrss / 1024.0;
+}
+
+void Print(const char* solver, const ttz::lap::LapSolution& sol, const ttz::lap::SolveSummary& s) {
+  std::printf("%-9s %10.4f %12.4f %5d %6d %9.1f %10.3f %8.0f  %s\n", solver, sol.lap_time,
+              sol.lap_time_extrapolated, s.converged ? 1 : 0, s.iterations, s.solve_seconds,
+              s.solve_seconds / std::max(1, s.iterations), PeakMegabytes(), s.message.c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace ttz::lap;
+  if (argc < 5) {
+    std::fprintf(stderr, "usage: lap_bench ROAD.h5 BIKE.yaml DS_M LENGTH_M [indirect|ipopt|both]\n");
+    return 2;
+  }
+  ttz::SetLogLevel(1);
+  const Vehicle v = MakeVehicle(LoadBike(argv[2]));
+  const RoadTrack road(ttz::ReadRoad(argv[1]));
+  const std::vector<double> mesh =
+      UniformMesh(std::min(std::stod(argv[4]), road.Length()), std::stod(argv[3]));
+  const std::string which = argc > 5 ? argv[5] : "both";
+  const QssLap qss = ComputeQss(v, road, mesh);
+  std::printf("%zu nodes over %.1f m, QSS lap %.4f s\n", mesh.size(), mesh.back(), qss.lap_time);
+  std::printf("%-9s %10s %12s %5s %6s %9s %10s %8s\n", "solver", "lap_s", "extrap_s", "conv", "iters",
+              "wall_s", "s_per_iter", "peak_MB");
+  if (which != "ipopt") {
+    SolveSummary s;
+    Print("indirect", SolveIndirect(v, road, mesh, qss.x, {}, qss.u, IndirectOptions{}, &s), s);
+  }
+  if (which != "indirect") {
+    SolveSummary s;
+    Print("ipopt", SolveDirectIpopt(v, road, mesh, qss.x, qss.u, IpoptOptions{}, &s), s);
+  }
+  return 0;
+}
