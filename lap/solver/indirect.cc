@@ -140,8 +140,7 @@ Continuation RunContinuation(const IndirectOptions& options, Transcription* tr,
 }
 
 // States, costates and time at the nodes. The transcription's controls live on the intervals
-// (one per midpoint); a node reports the mean of its neighbouring intervals' controls (an end node,
-// its one interval's). Every constraint is checked where the transcription evaluates it, at the
+// (one per midpoint); the nodes report NodeControls of them (solution.h). Every constraint is checked where the transcription evaluates it, at the
 // midpoints.
 LapSolution NodeSolution(const Vehicle& v, const Transcription& tr, SolveSummary* summary) {
   const int n = tr.NumNodes();
@@ -149,8 +148,7 @@ LapSolution NodeSolution(const Vehicle& v, const Transcription& tr, SolveSummary
   sol.s = tr.s;
   sol.x.resize(n);
   sol.lambda.resize(n);
-  sol.u.assign(n, ControlVector<double>{});
-  sol.u_interval.assign(n - 1, ControlVector<double>{});
+  sol.u_interval.resize(n - 1);
   sol.t.assign(n, 0.0);
   for (int k = 0; k < n; ++k)
     for (int i = 0; i < kNumStates; ++i) {
@@ -166,17 +164,14 @@ LapSolution NodeSolution(const Vehicle& v, const Transcription& tr, SolveSummary
     StateVector<double> xm;
     ControlVector<double> um;
     for (int i = 0; i < kNumStates; ++i) xm[i] = 0.5 * (sol.x[k][i] + sol.x[k + 1][i]);
-    for (int i = 0; i < kNumControls; ++i) {
-      um[i] = mid.u[i] * tr.sc.control[i];
-      sol.u_interval[k][i] = um[i];
-      for (int node : {k, k + 1})
-        sol.u[node][i] += um[i] * ((node == 0 || node == n - 1) ? 1.0 : 0.5);
-    }
+    for (int i = 0; i < kNumControls; ++i) um[i] = mid.u[i] * tr.sc.control[i];
+    sol.u_interval[k] = um;
     const RoadPoint& rp = tr.road[k];
     const ConstraintVector<double> g = EvaluateConstraints(v, xm, um, rp, EvaluateModel(v, xm, um, rp));
     for (int j = 0; j < kNumConstraints; ++j)
       summary->max_violation[j] = std::max(summary->max_violation[j], g[j]);
   }
+  sol.u = NodeControls(sol.u_interval);
   sol.lap_time = sol.t.back();
   return sol;
 }

@@ -413,26 +413,21 @@ std::vector<StateVector<double>> CostatesFromMultipliers(const Transcription& tr
 }
 
 // Fills the solution and the checks of the answer (state defects, constraint violations at the
-// midpoints) from the cached midpoint values at the final point. A node reports the mean of its
-// neighbouring intervals' controls (an end node, its one interval's), as the indirect solver.
+// midpoints) from the cached midpoint values at the final point. The nodes report NodeControls of
+// the intervals' controls (solution.h), as the indirect solver.
 void CheckAnswer(const Transcription& tr, const std::vector<double>& x, const MidCache& cache,
                  LapSolution* sol, SolveSummary* summary) {
   const int n = tr.NumNodes();
   sol->x.resize(n);
-  sol->u.assign(n, ControlVector<double>{});
-  sol->u_interval.assign(n - 1, ControlVector<double>{});
+  sol->u_interval.resize(n - 1);
   sol->t.assign(n, 0.0);
   summary->max_violation.assign(kNumConstraints, -HUGE_VAL);
   summary->max_state_defect = 0.0;
   for (int k = 0; k < n; ++k)
     for (int i = 0; i < kNumStates; ++i) sol->x[k][i] = x[tr.State(k, i)] * tr.sc.state[i];
   for (int k = 0; k + 1 < n; ++k) {
-    for (int i = 0; i < kNumControls; ++i) {
-      const double u = x[tr.Control(k, i)] * tr.sc.control[i];
-      sol->u_interval[k][i] = u;
-      for (int node : {k, k + 1})
-        sol->u[node][i] += u * ((node == 0 || node == n - 1) ? 1.0 : 0.5);
-    }
+    for (int i = 0; i < kNumControls; ++i)
+      sol->u_interval[k][i] = x[tr.Control(k, i)] * tr.sc.control[i];
     for (int j = 0; j < kNumConstraints; ++j)
       summary->max_violation[j] = std::max(summary->max_violation[j], cache.y(k)(kOutG + j));
     sol->t[k + 1] = sol->t[k] + tr.h[k] * cache.y(k)(kOutTime);
@@ -442,6 +437,7 @@ void CheckAnswer(const Transcription& tr, const std::vector<double>& x, const Mi
       summary->max_state_defect = std::max(summary->max_state_defect, std::abs(defect));
     }
   }
+  sol->u = NodeControls(sol->u_interval);
   sol->lap_time = sol->lap_time_extrapolated = sol->t.back();
 }
 

@@ -31,6 +31,22 @@ struct LapSolution {
   double lap_time_extrapolated = 0.0;          // linear extrapolation to eps = 0 [s]
 };
 
+// The controls at the nodes from the intervals' (both solvers hold one control per interval): a
+// node reports the mean of its two neighbouring intervals' controls, an end node its one
+// interval's.
+inline std::vector<ControlVector<double>> NodeControls(
+    const std::vector<ControlVector<double>>& u_interval) {
+  const size_t intervals = u_interval.size();
+  std::vector<ControlVector<double>> u(intervals + 1);
+  for (size_t node = 0; node <= intervals; ++node)
+    for (int i = 0; i < kNumControls; ++i) {
+      if (node == 0) u[node][i] = u_interval[0][i];
+      else if (node == intervals) u[node][i] = u_interval[node - 1][i];
+      else u[node][i] = 0.5 * u_interval[node - 1][i] + 0.5 * u_interval[node][i];
+    }
+  return u;
+}
+
 struct SolveSummary {
   bool converged = false;                      // every check below passed
   std::string message;                         // why not, when not
