@@ -1,7 +1,7 @@
 // The indirect solver against the Ipopt oracle (issue 3, "Oracle agreement"): on the same roads
 // and the same mesh the two lap times agree within 0.05 %, at the indirect solver's final barrier
-// weight and, tighter, after its extrapolation to eps = 0. The 300 m bend road is in
-// indirect_test.
+// weight and, tighter, after its extrapolation to eps = 0. Each indirect answer also passes the
+// honesty checks at eps = 1e-4 and every constraint holds.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -22,10 +22,12 @@ constexpr double kPi = 3.14159265358979323846;
 struct OracleCase {
   const char* name;
   RoadArtefact road;
+  double extrapolated_tolerance;  // on |extrapolated / Ipopt - 1|
 };
 
-// Solves `road` on a 2 m mesh with both solvers and compares their lap times.
-void ExpectAgreement(const OracleCase& c) {
+// Solves `road` on a 2 m mesh with both solvers and compares their lap times; returns the indirect
+// solver's answer.
+LapSolution ExpectAgreement(const OracleCase& c) {
   const Vehicle v = MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml"));
   const RoadTrack road(c.road);
   const std::vector<double> mesh = UniformMesh(road.Length(), 2.0);
@@ -39,12 +41,38 @@ void ExpectAgreement(const OracleCase& c) {
             << ", extrapolated " << sol.lap_time_extrapolated << " s, "
             << indirect_summary.iterations << " iterations, " << indirect_summary.solve_seconds
             << " s; Ipopt " << oracle.lap_time << " s; QSS " << qss.lap_time << " s\n";
-  ASSERT_TRUE(indirect_summary.converged) << indirect_summary.message;
-  ASSERT_TRUE(oracle_summary.converged) << oracle_summary.message;
+  EXPECT_TRUE(indirect_summary.converged) << indirect_summary.message;
+  EXPECT_TRUE(oracle_summary.converged) << oracle_summary.message;
+  EXPECT_LE(indirect_summary.max_residual, 1e-8);
   EXPECT_EQ(indirect_summary.control_failures, 0);
-  EXPECT_NEAR(sol.lap_time / oracle.lap_time, 1.0, 5e-4);
-  EXPECT_NEAR(sol.lap_time_extrapolated / oracle.lap_time, 1.0, 1e-4);
+  for (int j = 0; j < kNumConstraints; ++j)
+    EXPECT_LE(indirect_summary.max_violation[j], 0.0) << kConstraintNames[j];  // barrier keeps inside
+  EXPECT_DOUBLE_EQ(sol.eps, 1e-4);
+  EXPECT_NEAR(sol.lap_time / oracle.lap_time, 1.0, 5e-4);  // issue 3: within 0.05 %
+  EXPECT_NEAR(sol.lap_time_extrapolated / oracle.lap_time, 1.0, c.extrapolated_tolerance);
   EXPECT_LT(sol.lap_time, qss.lap_time);
+  return sol;
+}
+
+TEST(OracleTest, BendLeaningIntoIt) {
+  // 300 m with a 50 m radius left bend from 100 to 220 m, ramped in and out over 20 m. With
+  // Omega_z and tau_w as controls the continuation stalled at eps ~ 0.03 here (H concave in
+  // Omega_z, a singular brake torque: lap/model/state.h, docs/lap.md); as states it goes all the
+  // way.
+  const LapSolution sol = ExpectAgreement(
+      {"bend, 300 m",
+       testing::SyntheticRoad(300.0, 8.0,
+                              [](double s) {
+                                return std::min({1.0, std::max(0.0, (s - 100.0) / 20.0),
+                                                 std::max(0.0, (220.0 - s) / 20.0)}) /
+                                       50.0;
+                              },
+                              testing::Zero),
+       5e-5});
+  // The bike leans into the left bend (phi < 0 in the model's frame, y right).
+  const size_t apex = sol.x.size() * 160 / 300;
+  ASSERT_LT(apex, sol.x.size());
+  EXPECT_LT(sol.x[apex][kPhi], -0.3);
 }
 
 TEST(OracleTest, SBendsOverACrestAndADip) {
@@ -52,7 +80,8 @@ TEST(OracleTest, SBendsOverACrestAndADip) {
   ExpectAgreement({"S-bends with slope, 400 m",
                    testing::SyntheticRoad(
                        400.0, 8.0, [](double s) { return 0.02 * std::sin(2 * kPi * s / 200); },
-                       [](double s) { return 0.04 * std::sin(2 * kPi * s / 300); })});
+                       [](double s) { return 0.04 * std::sin(2 * kPi * s / 300); }),
+                   1e-4});
 }
 
 TEST(OracleTest, HairpinOnADescent) {
@@ -62,7 +91,8 @@ TEST(OracleTest, HairpinOnADescent) {
        testing::SyntheticRoad(
            200.0, 8.0,
            [](double s) { return std::clamp(std::min(s - 60.0, 130.0 - s) / 10.0, 0.0, 1.0) / 15.0; },
-           [](double) { return std::atan(-0.06); })});
+           [](double) { return std::atan(-0.06); }),
+       1e-4});
 }
 
 }  // namespace
