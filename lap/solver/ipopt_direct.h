@@ -40,7 +40,7 @@ struct IpoptOptions {
   // midpoints) added to the objective; the reported lap time excludes it. Off by default: since
   // Omega_z and tau_w became states (lap/model/state.h) with their rates' cost in the model
   // (lap/model/cost.h), the answer is smooth without it, and the oracle solves the same problem as
-  // the indirect solver. Measured on the 300 m bend road of indirect_test (2 m mesh): c = 0,
+  // the indirect solver. Measured on the 300 m bend road of oracle_test (2 m mesh): c = 0,
   // 14.3306 s in 34 iterations; c = 1e-4, 14.3315 s in 39.
   double control_rate_weight = 0.0;
   // Ipopt's `mu_strategy`: "adaptive" or "monotone". Both converge on the roads above;
