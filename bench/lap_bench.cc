@@ -1,6 +1,7 @@
 // Benchmark of the lap solvers on a piece of a road.h5 (e.g. the Snaefell course that `make run`
-// fits): both solvers from the QSS guess on a uniform mesh from 0 to LENGTH_M, printing lap time,
-// convergence, iterations, wall time, time per iteration and peak memory (not a test).
+// fits): both solvers from the QSS guess on the mesh of `lap --ds DS_M --dt-max DT_MAX_S` (lap/mesh.h)
+// from 0 to LENGTH_M, printing lap time, convergence, iterations, wall time, time per iteration,
+// peak memory and the re-simulation check's lap-time and largest state difference (not a test).
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -11,7 +12,9 @@
 #include "common/log.h"
 #include "common/road_artefact.h"
 #include "lap/bike.h"
+#include "lap/mesh.h"
 #include "lap/qss.h"
+#include "lap/resimulate.h"
 #include "lap/solver/indirect.h"
 #include "lap/solver/ipopt_direct.h"
 
@@ -23,10 +26,14 @@ double PeakMegabytes() {
   return u.ru_maxrss / 1024.0;
 }
 
-void Print(const char* solver, const ttz::lap::LapSolution& sol, const ttz::lap::SolveSummary& s) {
-  std::printf("%-9s %10.4f %12.4f %5d %6d %9.1f %10.3f %8.0f  %s\n", solver, sol.lap_time,
+void Print(const char* solver, const ttz::lap::Vehicle& v, const ttz::lap::RoadTrack& road,
+           const ttz::lap::LapSolution& sol, const ttz::lap::SolveSummary& s) {
+  using namespace ttz::lap;
+  const ResimReport r = Resimulate(v, road, sol, ResimOptions{});
+  std::printf("%-9s %10.4f %12.4f %5d %6d %9.1f %10.3f %8.0f %9.4f %8.3f %-9s %s\n", solver, sol.lap_time,
               sol.lap_time_extrapolated, s.converged ? 1 : 0, s.iterations, s.solve_seconds,
-              s.solve_seconds / std::max(1, s.iterations), PeakMegabytes(), s.message.c_str());
+              s.solve_seconds / std::max(1, s.iterations), PeakMegabytes(), 100.0 * r.lap_time_relative,
+              100.0 * r.max_state_difference_all, kStateNames[r.worst_state], s.message.c_str());
 }
 
 }  // namespace
@@ -34,26 +41,30 @@ void Print(const char* solver, const ttz::lap::LapSolution& sol, const ttz::lap:
 int main(int argc, char** argv) {
   using namespace ttz::lap;
   if (argc < 5) {
-    std::fprintf(stderr, "usage: lap_bench ROAD.h5 BIKE.yaml DS_M LENGTH_M [indirect|ipopt|both]\n");
+    std::fprintf(stderr, "usage: lap_bench ROAD.h5 BIKE.yaml DS_M LENGTH_M [indirect|ipopt|both] [DT_MAX_S]\n");
     return 2;
   }
   ttz::SetLogLevel(1);
   const Vehicle v = MakeVehicle(LoadBike(argv[2]));
   const RoadTrack road(ttz::ReadRoad(argv[1]));
+  MeshOptions mesh_options;
+  mesh_options.ds_m = std::stod(argv[3]);
+  if (argc > 6) mesh_options.dt_max_s = std::stod(argv[6]);
+  const double length = std::min(std::stod(argv[4]), road.Length());
   const std::vector<double> mesh =
-      UniformMesh(std::min(std::stod(argv[4]), road.Length()), std::stod(argv[3]));
+      TimeLimitedMesh(length, ComputeQss(v, road, UniformMesh(length, mesh_options.ds_m)), mesh_options);
   const std::string which = argc > 5 ? argv[5] : "both";
   const QssLap qss = ComputeQss(v, road, mesh);
   std::printf("%zu nodes over %.1f m, QSS lap %.4f s\n", mesh.size(), mesh.back(), qss.lap_time);
-  std::printf("%-9s %10s %12s %5s %6s %9s %10s %8s\n", "solver", "lap_s", "extrap_s", "conv", "iters",
-              "wall_s", "s_per_iter", "peak_MB");
+  std::printf("%-9s %10s %12s %5s %6s %9s %10s %8s %9s %8s %-9s\n", "solver", "lap_s", "extrap_s", "conv",
+              "iters", "wall_s", "s_per_iter", "peak_MB", "resim_t%", "resim_x%", "worst");
   if (which != "ipopt") {
     SolveSummary s;
-    Print("indirect", SolveIndirect(v, road, mesh, qss.x, {}, qss.u, IndirectOptions{}, &s), s);
+    Print("indirect", v, road, SolveIndirect(v, road, mesh, qss.x, {}, qss.u, IndirectOptions{}, &s), s);
   }
   if (which != "indirect") {
     SolveSummary s;
-    Print("ipopt", SolveDirectIpopt(v, road, mesh, qss.x, qss.u, IpoptOptions{}, &s), s);
+    Print("ipopt", v, road, SolveDirectIpopt(v, road, mesh, qss.x, qss.u, IpoptOptions{}, &s), s);
   }
   return 0;
 }

@@ -14,6 +14,9 @@ enum ExitCode : int {
   kExitOther = 1,         // an unexpected failure (I/O error, library error, bug)
   kExitBadInput = 2,      // a bad input file, option or value; nothing was written
   kExitNotConverged = 3,  // the solver did not converge; the artefact says so (converged = false)
+  kExitNotResolved = 4,   // lap: the solver converged, but its answer failed the re-simulation
+                          // check (the mesh does not resolve the dynamics to 0.1 %); the artefact
+                          // says so (resim_passed = false)
 };
 
 // A defect of the user's input. `where` names the file and, when known, the line/row, column or

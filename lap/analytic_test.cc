@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "lap/bike.h"
+#include "lap/mesh.h"
 #include "lap/model/constraints.h"
 #include "lap/model/dynamics.h"
 #include "lap/qss.h"

@@ -12,6 +12,13 @@
 namespace ttz::lap {
 namespace {
 
+// The shortest mesh interval [m].
+double MinSpacing(const std::vector<double>& s) {
+  double h = s.back() - s.front();
+  for (size_t k = 0; k + 1 < s.size(); ++k) h = std::min(h, s[k + 1] - s[k]);
+  return h;
+}
+
 // Units of the costates of the physical states: dt/dx_i along the lap, [s / unit of x_i].
 constexpr std::array<const char*, kNumStates> kCostateUnits = {
     "s/m", "s/rad", "s^2/m", "s/rad", "s/m", "s/rad", "s^2/rad", "s/K", "s/J", "s^2/rad", "s^2/m",
@@ -131,7 +138,9 @@ void WriteAttributes(ArtefactWriter& w, const LapSolution& sol, const SolveSumma
   w.WriteAttribute("control_failures", static_cast<int64_t>(summary.control_failures));
   w.WriteAttribute("iterations", static_cast<int64_t>(summary.iterations));
   w.WriteAttribute("solve_seconds", summary.solve_seconds);
-  w.WriteAttribute("mesh_ds", sol.s[1] - sol.s[0]);
+  w.WriteAttribute("mesh_ds", p.mesh.ds_m);
+  w.WriteAttribute("mesh_dt_max", p.mesh.dt_max_s);
+  w.WriteAttribute("mesh_ds_min", MinSpacing(sol.s));
   w.WriteAttribute("nodes", static_cast<int64_t>(sol.s.size()));
   w.WriteAttribute("solver", p.solver);
   w.WriteAttribute("bike_yaml", p.bike_yaml);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "lap/lap_channels.h"
+#include "lap/mesh.h"
 #include "lap/model/state.h"
 #include "lap/model/vehicle.h"
 #include "lap/qss.h"
@@ -26,6 +27,7 @@ struct LapProvenance {
   std::string road_sha256;   // FileSha256 of road_file
   double road_length = 0.0;  // [m]
   std::string init_file;     // the --init file, "" when none
+  MeshOptions mesh;          // how the mesh was built (--ds, --dt-max)
 };
 
 // Writes atomically (ttz::ArtefactWriter); also when the solve did not converge. The costates

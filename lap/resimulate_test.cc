@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "lap/bike.h"
+#include "lap/mesh.h"
 #include "lap/model/dynamics.h"
 #include "lap/qss.h"
 #include "lap/solver/ipopt_direct.h"

@@ -54,11 +54,4 @@ RoadPoint RoadTrack::At(double s) const {
   return p;
 }
 
-std::vector<double> UniformMesh(double length, double ds) {
-  const int n = std::max(1, static_cast<int>(std::ceil(length / ds - 1e-9)));
-  std::vector<double> s(n + 1);
-  for (int i = 0; i <= n; ++i) s[i] = length * i / n;
-  return s;
-}
-
 }  // namespace ttz::lap

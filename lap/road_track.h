@@ -30,7 +30,4 @@ class RoadTrack {
   bool closed_ = false;
 };
 
-// A mesh of nodes s_0 = 0 < ... < s_N = length with spacing at most `ds` (uniform).
-std::vector<double> UniformMesh(double length, double ds);
-
 }  // namespace ttz::lap

@@ -32,7 +32,7 @@ class InputError(Exception):
 
 def run_cli(main):
     """Runs main(); an InputError (or a failed write) ends the program with one line on stderr
-    and exit status 2."""
+    and exit status 1 (argparse reports usage errors with 2)."""
     try:
         main()
     except InputError as err:

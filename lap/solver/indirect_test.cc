@@ -8,6 +8,7 @@
 #include <algorithm>
 
 #include "lap/bike.h"
+#include "lap/mesh.h"
 #include "lap/qss.h"
 #include "lap/testing/synthetic_road.h"
 

@@ -10,6 +10,7 @@
 #include <random>
 
 #include "lap/bike.h"
+#include "lap/mesh.h"
 #include "lap/qss.h"
 #include "lap/solver/direct_node.h"
 #include "lap/solver/indirect.h"

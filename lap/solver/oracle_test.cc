@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "lap/bike.h"
+#include "lap/mesh.h"
 #include "lap/qss.h"
 #include "lap/solver/indirect.h"
 #include "lap/solver/ipopt_direct.h"

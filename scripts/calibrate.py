@@ -1,0 +1,119 @@
+#!/usr/bin/python3
+"""Calibration stage of the TT Zero study (issue 4): fits ONE uncertain bike constant so that the
+optimal lap of `lap` matches a target lap time, and writes the fitted value to a file of `--set`
+overrides that the pipeline passes to every later lap.
+
+    calibrate.py ROAD.h5 BIKE.yaml --lap BIN/lap -o calibration.txt
+                 [--key motor.current_max_a] [--target 1771] [--start 300 400]
+                 [--rel-tol 0.002] [--max-evals 8] [--workdir DIR] [-- LAP_ARGS...]
+
+What and why (docs/pipelines.md, "Calibration"): the paper gives neither the motors' current limit
+nor any other power-train constant; data/bx15.yaml reasons each one. Its lap time is the one figure
+of the paper's section 4 this stage fits (29:31 = 1771 s by default); everything else the pipeline
+reports (energy used, battery and motor levels, the design studies) is then judged against the
+paper without having been fitted.
+
+Method: the secant method on f(x) = lap_time(x) - target from the two --start values, each lap
+warm-started (--init) from the closest value solved so far; a step is kept inside [x/4, 4x] of the
+last value. Stops when |f| <= rel_tol x target. Every lap is `lap ROAD BIKE --set KEY=x --json
+LAP_ARGS` into WORKDIR; a lap that exits 0 or 4 (converged; exit 4 = the re-simulation check
+failed, docs/lap_h5.md) counts, any other exit ends the calibration with an error.
+
+Output (written atomically): comment lines with the history (value, lap time, energy used, exit),
+then one line `KEY=VALUE`. Exit 0 when the target was met, 3 when --max-evals ran out (the file is
+not written), 1 on bad input or a failed lap.
+"""
+import json
+import os
+import subprocess
+import sys
+
+import ttz_h5
+
+
+class CalibrationError(Exception):
+    pass
+
+
+def _parse():
+    p = ttz_h5.argument_parser(__doc__)
+    p.add_argument("road")
+    p.add_argument("bike")
+    p.add_argument("--lap", required=True, help="the lap executable")
+    p.add_argument("-o", "--output", required=True, help="the overrides file to write")
+    p.add_argument("--key", default="motor.current_max_a", help="the bike.yaml key to fit")
+    p.add_argument("--target", type=float, default=1771.0, help="target lap time [s]")
+    p.add_argument("--start", type=float, nargs=2, default=[300.0, 400.0],
+                   help="the two first values of the key")
+    p.add_argument("--rel-tol", type=float, default=0.002, help="|lap - target| / target to reach")
+    p.add_argument("--max-evals", type=int, default=8, help="laps to solve at most")
+    p.add_argument("--workdir", default=None, help="folder of the laps (default: beside --output)")
+    argv = sys.argv[1:]
+    split = argv.index("--") if "--" in argv else len(argv)
+    a = p.parse_args(argv[:split])
+    a.lap_args = argv[split + 1:]
+    if a.start[0] <= 0 or a.start[1] <= 0 or a.start[0] == a.start[1]:
+        p.error("--start needs two different positive values")
+    return a
+
+
+def _solve(a, x, solved):
+    """Runs one lap at key = x; returns (lap time [s], energy used [J], exit code, lap.h5)."""
+    workdir = a.workdir or os.path.dirname(os.path.abspath(a.output))
+    os.makedirs(workdir, exist_ok=True)
+    out = os.path.join(workdir, f"calibration_{a.key}_{x:.6g}.h5")
+    cmd = [a.lap, a.road, a.bike, "-o", out, "--set", f"{a.key}={x:.10g}", "--json", "-q"]
+    if solved:
+        closest = min(solved, key=lambda r: abs(r[0] - x))
+        cmd += ["--init", closest[4]]
+    cmd += a.lap_args
+    run = subprocess.run(cmd, capture_output=True, text=True)
+    if run.returncode not in (0, 4):
+        raise CalibrationError(f"{' '.join(cmd)}: exit {run.returncode}: {run.stderr.strip()}")
+    figures = json.loads(run.stdout)
+    return figures["lap_time"], figures["energy_used"], run.returncode, out
+
+
+def _next(history, a):
+    """The secant step from the last two laps, kept within [x/4, 4x] of the last value."""
+    (x0, t0, *_), (x1, t1, *_) = history[-2], history[-1]
+    if t1 == t0:
+        raise CalibrationError(f"{a.key}: lap time {t1} s did not change between {x0} and {x1}")
+    x2 = x1 - (t1 - a.target) * (x1 - x0) / (t1 - t0)
+    return min(max(x2, x1 / 4.0), 4.0 * x1)
+
+
+def _write(a, history):
+    lines = [f"# {a.key} fitted by scripts/calibrate.py to a lap of {a.target:g} s on {a.road}",
+             "# value, lap time [s], energy used [MJ], lap exit code"]
+    lines += [f"# {x:.6g} {t:.3f} {e / 1e6:.3f} {code}" for x, t, e, code, _ in history]
+    lines.append(f"{a.key}={history[-1][0]:.6g}")
+    def write(path):
+        with open(path, "w") as handle:
+            handle.write("\n".join(lines) + "\n")
+
+    ttz_h5.write_atomically(a.output, write)
+
+
+def main():
+    a = _parse()
+    history = []
+    x = a.start[0]
+    for evaluation in range(a.max_evals):
+        t, e, code, out = _solve(a, x, history)
+        history.append((x, t, e, code, out))
+        print(f"{a.key} = {x:.6g}: lap {t:.3f} s, energy {e / 1e6:.3f} MJ (exit {code})", flush=True)
+        if abs(t - a.target) <= a.rel_tol * a.target:
+            _write(a, history)
+            return 0
+        x = a.start[1] if evaluation == 0 else _next(history, a)
+    print(f"error: {a.key}: lap time still {history[-1][1]:.3f} s after {a.max_evals} laps "
+          f"(target {a.target:g} s); {a.output} not written", file=sys.stderr)
+    return 3
+
+
+if __name__ == "__main__":
+    try:
+        sys.exit(main())
+    except CalibrationError as err:
+        sys.exit(f"error: {err}")

@@ -1,0 +1,73 @@
+#!/usr/bin/python3
+"""calibrate.py: the secant fit against a stand-in `lap` whose lap time is a known function of the
+fitted key; failed laps and exhausted evaluations refused."""
+import os
+import stat
+import tempfile
+import unittest
+
+import ttz_fixtures as fx
+
+# A stand-in for the lap executable: lap time 1000 + 3e5 / x [s] at --set KEY=x, so 1771 s at
+# x = 3e5 / 771 = 389.1; it records its arguments, writes an empty -o file and exits with $FAKE_EXIT.
+FAKE_LAP = """#!/usr/bin/python3
+import json, os, sys
+args = sys.argv[1:]
+x = float(next(a for a in args if "=" in a).split("=")[1])
+open(args[args.index("-o") + 1], "w").close()
+with open(os.environ["FAKE_LOG"], "a") as log:
+    log.write(" ".join(args) + "\\n")
+print(json.dumps({"lap_time": 1000 + 3e5 / x, "energy_used": 1e5 * x}))
+sys.exit(int(os.environ.get("FAKE_EXIT", "0")))
+"""
+
+
+def read_lines(path):
+    with open(path) as handle:
+        return handle.read().splitlines()
+
+
+class CalibrateTest(fx.ScriptAssertions, unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.dir = self.tmp.name
+        self.lap = os.path.join(self.dir, "lap")
+        with open(self.lap, "w") as handle:
+            handle.write(FAKE_LAP)
+        os.chmod(self.lap, os.stat(self.lap).st_mode | stat.S_IEXEC)
+        self.log = os.path.join(self.dir, "laps.log")
+        self.out = os.path.join(self.dir, "calibration.txt")
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def calibrate(self, *extra, exit_code=0):
+        os.environ.update(FAKE_LOG=self.log, FAKE_EXIT=str(exit_code))  # read by FAKE_LAP
+        return fx.run("calibrate.py", "road.h5", "bike.yaml", "--lap", self.lap, "-o", self.out, *extra)
+
+    def test_the_secant_method_meets_the_target_and_writes_the_override(self):
+        self.assert_ok(self.calibrate("--", "--solver", "ipopt"))
+        lines = read_lines(self.out)
+        key, value = lines[-1].split("=")
+        self.assertEqual(key, "motor.current_max_a")
+        self.assertLess(abs(1000 + 3e5 / float(value) - 1771) / 1771, 0.002)
+        laps = read_lines(self.log)
+        self.assertEqual(len([line for line in lines if line.startswith("# ") and "exit" not in line]) - 1, len(laps))
+        self.assertNotIn("--init", laps[0])
+        self.assertTrue(all("--init" in lap and lap.endswith("--solver ipopt") for lap in laps[1:]), laps)
+
+    def test_a_lap_that_exits_4_counts(self):
+        self.assert_ok(self.calibrate(exit_code=4))
+        self.assertTrue(os.path.exists(self.out))
+
+    def test_a_lap_that_did_not_converge_ends_the_calibration(self):
+        self.assert_refused(self.calibrate(exit_code=3), "exit 3", absent=[self.out])
+
+    def test_running_out_of_laps_exits_3_without_output(self):
+        result = self.calibrate("--max-evals", "2")
+        self.assertEqual(result.returncode, 3, result.stderr)
+        self.assert_refused(result, "after 2 laps", absent=[self.out])
+
+
+if __name__ == "__main__":
+    fx.main()

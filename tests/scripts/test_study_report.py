@@ -1,0 +1,225 @@
+#!/usr/bin/python3
+"""study_report.py on tiny synthetic design studies (lap.h5 files with a bike_yaml attribute):
+known optima found, the paper compared, non-converged points reported, bad input refused."""
+import os
+import re
+import tempfile
+import unittest
+
+import h5py
+import numpy as np
+
+import ttz_fixtures as fx
+
+CELL_J = 531250.0          # data/bx15.yaml: 4P24S of these cells is the 51 MJ pack
+GEARS = [round(2.8 + 0.1 * k, 1) for k in range(11)]        # 2.8 ... 3.8
+NOT_CONVERGED_GEAR = 3.5   # written with converged = 0 and the least lap time of all
+NODES = 201
+
+
+def gear_lap_time(gear):
+    """Known optimum at gear 3.3 (1700 s); 1750 s at the reference 2.8."""
+    return 1700.0 + 200.0 * (gear - 3.3) ** 2
+
+
+def bike_yaml(gear=2.8, motors=2, parallel=4, series=24, cell_j=CELL_J, base_mass=168.0):
+    """A bike in BikeToYaml's two-level layout, with the keys the studies read."""
+    return (f"# bike.yaml (ttz lap): test fixture\nchassis:\n  base_mass_kg: {base_mass!r}\n"
+            f"motor:\n  count: {motors}\n  mass_kg: 11\nbattery:\n  cells_series: {series}\n"
+            f"  cells_parallel: {parallel}\n  cell_energy_j: {cell_j!r}\n"
+            f"  energy_density_j_per_kg: 510000\ndrive:\n  gear_ratio: {gear!r}\n"
+            "  efficiency: 0.95\n")
+
+
+def write_point(path, lap_time, energy_used, top_speed=60.0, converged=1, message="",
+                accel=5.0, efficiency=0.7, schema="ttz.lap", without=(), **bike):
+    """A lap.h5 of one design point: t uniform to lap_time, V = 5 + accel t (capped at 70 m/s),
+    battery power 50 kW then -5 kW, wheel power efficiency x 50 kW then -8 kW (so the positive
+    parts' ratio is `efficiency`). Attributes in `without` are left out."""
+    pack_j = bike.get("series", 24) * bike.get("parallel", 4) * bike.get("cell_j", CELL_J)
+    t = np.linspace(0.0, lap_time, NODES)
+    half = np.arange(NODES) < NODES // 2
+    channels = {"s": np.linspace(0.0, 60e3, NODES), "t": t,
+                "state/V": np.minimum(5.0 + accel * t, 70.0),
+                "battery/power": np.where(half, 50e3, -5e3),
+                "wheel/power": np.where(half, efficiency * 50e3, -8e3)}
+    with h5py.File(path, "w") as h5:
+        for name, values in channels.items():
+            h5.create_dataset(name, data=values)
+        attrs = {"schema": schema, "schema_version": 2, "lap_time": lap_time,
+                 "top_speed": top_speed, "energy_used": energy_used,
+                 "energy_fraction": energy_used / pack_j, "converged": np.int8(converged),
+                 "message": message, "bike_yaml": bike_yaml(**bike), "road_sha256": "abc"}
+        h5.attrs.update({k: v for k, v in attrs.items() if k not in without})
+    return path
+
+
+class StudyReportTest(fx.ScriptAssertions, unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.dir = self.tmp.name
+        self.out = os.path.join(self.dir, "out")
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def path(self, *names):
+        return os.path.join(self.dir, *names)
+
+    def gear_study(self):
+        """A folder of 11 gear points (2.8 ... 3.8); gear 3.5 did not converge."""
+        folder = self.path("gear")
+        os.makedirs(folder)
+        for gear in GEARS:
+            bad = gear == NOT_CONVERGED_GEAR
+            write_point(os.path.join(folder, f"g{gear}.h5"),
+                        1600.0 if bad else gear_lap_time(gear),
+                        41e6 - 5e6 * (gear - 3.3) ** 2, top_speed=70.0 - 10 * (gear - 3.1) ** 2,
+                        accel=2.0 * gear, efficiency=0.6 + 0.05 * (gear - 2.8),
+                        converged=0 if bad else 1, message="residual 3e-2" if bad else "",
+                        gear=gear)
+        return folder
+
+    def battery_study(self):
+        """4P24S packs of 25 ... 51 MJ; least lap time with 37 MJ."""
+        paths = []
+        for pack_mj in (25.0, 31.0, 37.0, 43.0, 51.0):
+            paths.append(write_point(self.path(f"b{pack_mj:g}.h5"),
+                                     1780.0 + 0.5 * (pack_mj - 37.0) ** 2,
+                                     min(pack_mj, 37.0) * 1e6, cell_j=pack_mj * 1e6 / 96))
+        return paths
+
+    def grid_study(self, skip=()):
+        """3 x 3 grid of gear 3.2/3.4/3.6 x pack 37/42/47 MJ; minimum 1654 s at (3.4, 42)."""
+        paths = []
+        for gear in (3.2, 3.4, 3.6):
+            for pack_mj in (37.0, 42.0, 47.0):
+                if (gear, pack_mj) in skip:
+                    continue
+                lap = 1654.0 + 300.0 * (gear - 3.4) ** 2 + 0.5 * (pack_mj - 42.0) ** 2
+                paths.append(write_point(self.path(f"grid_{gear}_{pack_mj:g}.h5"), lap, 36e6,
+                                         gear=gear, cell_j=pack_mj * 1e6 / 96))
+        return paths
+
+    def motor_study(self):
+        """The paper's three configurations, given out of order."""
+        return [write_point(self.path("m3_5p.h5"), 1571.0, 0.85 * 5 * 24 * CELL_J, motors=3,
+                            parallel=5),
+                write_point(self.path("m2_4p.h5"), 1771.0, 0.72 * 96 * CELL_J),
+                write_point(self.path("m3_4p.h5"), 1566.0, 96 * CELL_J, motors=3)]
+
+    def read(self, name):
+        with open(os.path.join(self.out, name)) as handle:
+            return handle.read()
+
+    def test_all_studies(self):
+        result = fx.run("study_report.py", "--gear", self.gear_study(),
+                        "--battery", *self.battery_study(), "--grid", *self.grid_study(),
+                        "--motors", *self.motor_study(), "-o", self.out)
+        self.assert_ok(result)
+        for name in ("fig12_gear.png", "fig14_battery.png", "fig15_grid.png"):
+            self.assertGreater(os.path.getsize(os.path.join(self.out, name)), 1000, name)
+        self.assert_no_temporaries(self.out)
+        report = self.read("report.md")
+        # gear: optimum 3.3 (the unconverged 3.5 has a smaller lap time but must not win);
+        # paper 3.4: -0.10 absolute, (3.3 - 3.4) / 3.4 = -2.9 %
+        self.assertIn("| optimum gear ratio (least lap time) | 3.4 | 3.3 | -0.10 (-2.9 %) |",
+                      report)
+        # gain 1750 - 1700 = 50 s against the paper's 105 s
+        self.assertIn("| 105 s (1:45, ~6 %) | 50.0 s (2.9 %) | -52.4 % |", report)
+        self.assertIn("| gear of the highest top speed on course | 3.1 | 3.1 (252.0 km/h) |",
+                      report)
+        self.assertIn("| gear of the quickest 0-120 km/h | 4.3 (the shortest studied) | 3.8",
+                      report)
+        self.assertIn("| increases throughout 2.5-4.3 | increases throughout |", report)
+        # gear 2.8: 0-120 km/h (33.33 - 5) / 5.6 = 5.06 s, efficiency 60 %
+        row_28 = next(line for line in report.splitlines() if "g2.8.h5" in line and "|" in line)
+        self.assertIn("| 5.06 |", row_28)
+        self.assertIn("| 60.0 |", row_28)
+        self.assertRegex(report, r"NOT CONVERGED: `[^`]*g3\.5\.h5`: residual 3e-2")
+        row_35 = next(line for line in report.splitlines() if "g3.5.h5" in line and "|" in line)
+        self.assertIn("**NO**", row_35)
+        # battery: least lap with the 37 MJ pack, as in the paper
+        self.assertIn("| 37.00 MJ | +0.00 MJ (+0.0 %) |", report)
+        self.assertIn("| 100.0 % of 25.00 MJ | +0.0 pp (+0.0 %) |", report)
+        # grid: 1654 s at gear 3.4, 42 MJ
+        self.assertIn("| least lap time | 27:34 (1654 s) | 27:34.0 (1654.0 s) | +0.0 % |", report)
+        self.assertIn("| its gear ratio | 3.4 | 3.4 | +0.00 (+0.0 %) |", report)
+        # reference lap from the 2-motor 4P24S point at gear 2.8 (the gear study's 2.8 point)
+        self.assertIn("| lap time | 29:31 (1771 s) | 29:10.0 (1750.0 s) | -1.2 % |", report)
+        # Table 1 in the paper's order, whatever the order given
+        table = [line for line in self.read("table1.md").splitlines() if re.match(r"\| \d", line)]
+        self.assertEqual([line.split("|")[1:6] for line in table],
+                         [[" 2 ", " 4P24S ", " 51.0 ", " 29:31 ", " 72 "],
+                          [" 3 ", " 4P24S ", " 51.0 ", " 26:06 ", " 100 "],
+                          [" 3 ", " 5P24S ", " 63.8 ", " 26:11 ", " 85 "]])
+        self.assertIn("| 26:06 (1566 s) | 26:06 (1566.0 s) | +0.0 % |", report)
+        lines = result.stdout.splitlines()
+        self.assertTrue(lines[0].startswith("gear: optimum 3.3 (lap 28:20.0), gain over 2.8 "
+                                            "50.0 s; 1 of 11 points NOT converged"), lines[0])
+        self.assertTrue(lines[1].startswith("battery: minimum lap 29:40.0 with a 37.00 MJ"),
+                        lines[1])
+        self.assertTrue(lines[2].startswith("grid: minimum lap 27:34.0 at gear 3.4, 42.00 MJ"),
+                        lines[2])
+        self.assertTrue(lines[3].startswith("motors: 2 motors 4P24S 29:31 72 %"), lines[3])
+
+    def test_incomplete_grid_with_unconverged_point(self):
+        paths = self.grid_study(skip={(3.6, 47.0)})
+        write_point(self.path("grid_bad.h5"), 1500.0, 36e6, converged=0, message="stalled",
+                    gear=3.6, cell_j=47e6 / 96)
+        self.assert_ok(fx.run("study_report.py", "--grid", *paths, self.path("grid_bad.h5"),
+                              "-o", self.out))
+        self.assertGreater(os.path.getsize(os.path.join(self.out, "fig15_grid.png")), 1000)
+        report = self.read("report.md")
+        self.assertIn("27:34.0 (1654.0 s)", report)    # not the unconverged 1500 s
+        self.assertIn("NOT CONVERGED: `", report)
+        self.assertFalse(os.path.exists(os.path.join(self.out, "fig12_gear.png")))
+
+    def refused(self, *args_and_words):
+        """Runs with args (up to the '--' marker), expects exit 1, one stderr line with the
+        words, and no output folder."""
+        split = args_and_words.index("--")
+        args, words = args_and_words[:split], args_and_words[split + 1:]
+        result = fx.run("study_report.py", *args, "-o", self.out)
+        self.assertEqual(result.returncode, 1, result.stderr)
+        line = self.assert_refused(result, *words)
+        self.assertFalse(os.path.exists(self.out), "output written")
+        return line
+
+    def test_missing_file_spoils_every_study(self):
+        self.refused("--gear", self.gear_study(), "--battery", self.path("absent.h5"),
+                     self.battery_study()[0], "--", "absent.h5", "no such file")
+
+    def test_wrong_schema(self):
+        bad = write_point(self.path("road.h5"), 1700.0, 3e7, schema="ttz.road")
+        self.refused("--battery", bad, *self.battery_study(), "--", "road.h5", "ttz.lap")
+
+    def test_missing_bike_yaml(self):
+        bad = write_point(self.path("nobike.h5"), 1700.0, 3e7, without=("bike_yaml",), gear=3.0)
+        self.refused("--gear", bad, *self.grid_study()[:1], "--", "nobike.h5", "bike_yaml")
+
+    def test_gear_study_varying_another_key(self):
+        paths = self.battery_study()[:2]   # same gear, different cells: not a gear study
+        self.refused("--gear", *paths, "--", "b31.h5", "battery.cell_energy_j", "drive.gear_ratio")
+
+    def test_study_not_varying_its_key(self):
+        same_pack = [write_point(self.path("p4.h5"), 1700.0, 3e7),
+                     write_point(self.path("p8.h5"), 1700.0, 3e7, parallel=8, series=12)]
+        self.refused("--battery", *same_pack, "--", "--battery", "pack energy")
+
+    def test_same_design_twice(self):
+        one = write_point(self.path("a.h5"), 1700.0, 3e7, gear=3.0)
+        other = write_point(self.path("b.h5"), 1700.0, 3e7, gear=3.1)
+        self.refused("--gear", one, other, one, "--", "a.h5", "same design", "drive.gear_ratio = 3")
+
+    def test_fewer_than_two_points(self):
+        self.refused("--motors", self.motor_study()[0], "--", "--motors", "at least 2")
+
+    def test_grid_on_one_line(self):
+        diagonal = [write_point(self.path(f"d{k}.h5"), 1700.0, 3e7, gear=3.0 + 0.1 * k,
+                                cell_j=(40.0 + k) * 1e6 / 96) for k in range(3)]
+        self.refused("--grid", *diagonal, "--", "--grid", "one line")
+
+
+if __name__ == "__main__":
+    fx.main()
