@@ -5,7 +5,7 @@ overrides that the pipeline passes to every later lap.
 
     calibrate.py ROAD.h5 BIKE.yaml --lap BIN/lap -o calibration.txt
                  [--key motor.current_max_a] [--target 1771] [--start 300 400]
-                 [--rel-tol 0.002] [--max-evals 8] [--workdir DIR] [-- LAP_ARGS...]
+                 [--rel-tol 0.002] [--max-evals 8] [--workdir DIR] [--warm-start] [-- LAP_ARGS...]
 
 What and why (docs/pipelines.md, "Calibration"): the paper gives neither the motors' current limit
 nor any other power-train constant; data/bx15.yaml reasons each one. Its lap time is the one figure
@@ -13,9 +13,9 @@ of the paper's section 4 this stage fits (29:31 = 1771 s by default); everything
 reports (energy used, battery and motor levels, the design studies) is then judged against the
 paper without having been fitted.
 
-Method: the secant method on f(x) = lap_time(x) - target from the two --start values, each lap
-warm-started (--init) from the closest value solved so far; a step is kept inside [x/4, 4x] of the
-last value. Stops when |f| <= rel_tol x target. Every lap is `lap ROAD BIKE --set KEY=x --json
+Method: the secant method on f(x) = lap_time(x) - target from the two --start values, with
+--warm-start each lap started (--init) from the closest value solved so far (it does not pay with
+Ipopt, docs/pipelines.md); a step is kept inside [x/4, 4x] of the last value. Stops when |f| <= rel_tol x target. Every lap is `lap ROAD BIKE --set KEY=x --json
 LAP_ARGS` into WORKDIR; a lap that exits 0 or 4 (converged; exit 4 = the re-simulation check
 failed, docs/lap_h5.md) counts, any other exit ends the calibration with an error.
 
@@ -48,6 +48,8 @@ def _parse():
     p.add_argument("--rel-tol", type=float, default=0.002, help="|lap - target| / target to reach")
     p.add_argument("--max-evals", type=int, default=8, help="laps to solve at most")
     p.add_argument("--workdir", default=None, help="folder of the laps (default: beside --output)")
+    p.add_argument("--warm-start", action="store_true",
+                   help="start each lap from the closest one solved (--init)")
     argv = sys.argv[1:]
     split = argv.index("--") if "--" in argv else len(argv)
     a = p.parse_args(argv[:split])
@@ -63,7 +65,7 @@ def _solve(a, x, solved):
     os.makedirs(workdir, exist_ok=True)
     out = os.path.join(workdir, f"calibration_{a.key}_{x:.6g}.h5")
     cmd = [a.lap, a.road, a.bike, "-o", out, "--set", f"{a.key}={x:.10g}", "--json", "-q"]
-    if solved:
+    if solved and a.warm_start:
         closest = min(solved, key=lambda r: abs(r[0] - x))
         cmd += ["--init", closest[4]]
     cmd += a.lap_args

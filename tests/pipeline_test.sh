@@ -17,7 +17,7 @@ for f in road.h5 reference/lap.h5 reference/plots/summary.md reference/plots/spe
 done
 grep -q "^converged      yes" "$d/reference/lap.txt" || fail "the reference lap did not converge: $(cat "$d/reference/lap.txt")"
 
-run_make gear GEARS="3.0 3.4" -j1
+run_make gear GEARS="3.0 3.4" WARM_START=yes -j1
 for g in 3.0 3.4; do [ -s "$d/studies/gear/$g/lap.h5" ] || fail "gear $g: no lap.h5"; done
 /usr/bin/python3 - "$d/studies/gear" <<'PY'
 import sys, h5py

@@ -46,7 +46,7 @@ class CalibrateTest(fx.ScriptAssertions, unittest.TestCase):
         return fx.run("calibrate.py", "road.h5", "bike.yaml", "--lap", self.lap, "-o", self.out, *extra)
 
     def test_the_secant_method_meets_the_target_and_writes_the_override(self):
-        self.assert_ok(self.calibrate("--", "--solver", "ipopt"))
+        self.assert_ok(self.calibrate("--warm-start", "--", "--solver", "ipopt"))
         lines = read_lines(self.out)
         key, value = lines[-1].split("=")
         self.assertEqual(key, "motor.current_max_a")
@@ -56,9 +56,10 @@ class CalibrateTest(fx.ScriptAssertions, unittest.TestCase):
         self.assertNotIn("--init", laps[0])
         self.assertTrue(all("--init" in lap and lap.endswith("--solver ipopt") for lap in laps[1:]), laps)
 
-    def test_a_lap_that_exits_4_counts(self):
+    def test_a_lap_that_exits_4_counts_and_laps_start_cold_by_default(self):
         self.assert_ok(self.calibrate(exit_code=4))
         self.assertTrue(os.path.exists(self.out))
+        self.assertFalse(any("--init" in lap for lap in read_lines(self.log)))
 
     def test_a_lap_that_did_not_converge_ends_the_calibration(self):
         self.assert_refused(self.calibrate(exit_code=3), "exit 3", absent=[self.out])
