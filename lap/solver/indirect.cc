@@ -7,6 +7,9 @@
 #include <cmath>
 #include <sstream>
 
+#include <Eigen/Sparse>
+#include <Eigen/SparseLU>
+
 #include "common/log.h"
 #include "lap/solver/node.h"
 #include "lap/solver/transcription.h"
@@ -58,6 +61,216 @@ ceres::Solver::Options CeresOptions(const IndirectOptions& options) {
   so.minimizer_progress_to_stdout = options.verbose;
   so.update_state_every_iteration = true;
   return so;
+}
+
+// The square system F(v, p) = 0 of the free unknowns v (tangent-space order of Ceres: costates of
+// node 0, then every unknown of nodes 1..N-1, then the states of node N) at p = log(eps).
+class CurveSystem {
+ public:
+  CurveSystem(Transcription* tr, ceres::Problem* problem)
+      : tr_(tr), problem_(problem), n_((tr->NumNodes() - 1) * kW) {}
+  int size() const { return n_; }
+  Eigen::VectorXd Get() const {
+    Eigen::VectorXd v(n_);
+    const int N = tr_->NumNodes() - 1;
+    int c = 0;
+    for (int i = kNumStates; i < kW; ++i) v[c++] = tr_->W(0)[i];
+    for (int k = 1; k < N; ++k)
+      for (int i = 0; i < kW; ++i) v[c++] = tr_->W(k)[i];
+    for (int i = 0; i < kNumStates; ++i) v[c++] = tr_->W(N)[i];
+    return v;
+  }
+  void Set(const Eigen::VectorXd& v) {
+    const int N = tr_->NumNodes() - 1;
+    int c = 0;
+    for (int i = kNumStates; i < kW; ++i) tr_->W(0)[i] = v[c++];
+    for (int k = 1; k < N; ++k)
+      for (int i = 0; i < kW; ++i) tr_->W(k)[i] = v[c++];
+    for (int i = 0; i < kNumStates; ++i) tr_->W(N)[i] = v[c++];
+  }
+  // F at the current unknowns and eps; with J: also dF/dv and dF/dp, p = log(eps) (by a forward
+  // difference).
+  bool Evaluate(double eps, Eigen::VectorXd* F, Eigen::SparseMatrix<double>* J, Eigen::VectorXd* Fp) {
+    ceres::Problem::EvaluateOptions eo;
+    std::vector<double> r;
+    ceres::CRSMatrix crs;
+    tr_->weight = WeightFor(eps);
+    if (!problem_->Evaluate(eo, nullptr, &r, nullptr, J != nullptr ? &crs : nullptr)) return false;
+    *F = Eigen::Map<Eigen::VectorXd>(r.data(), static_cast<Eigen::Index>(r.size()));
+    if (!F->allFinite()) return false;
+    if (J == nullptr) return true;
+    std::vector<Eigen::Triplet<double>> t;
+    for (int i = 0; i < crs.num_rows; ++i)
+      for (int j = crs.rows[i]; j < crs.rows[i + 1]; ++j) t.emplace_back(i, crs.cols[j], crs.values[j]);
+    J->resize(crs.num_rows, crs.num_cols);
+    J->setFromTriplets(t.begin(), t.end());
+    J->makeCompressed();
+    constexpr double hp = 1e-6;
+    tr_->weight = WeightFor(eps * std::exp(hp));
+    std::vector<double> r1;
+    const bool ok = problem_->Evaluate(eo, nullptr, &r1, nullptr, nullptr);
+    tr_->weight = WeightFor(eps);
+    if (!ok) return false;
+    *Fp = (Eigen::Map<Eigen::VectorXd>(r1.data(), static_cast<Eigen::Index>(r1.size())) - *F) / hp;
+    return Fp->allFinite();
+  }
+
+ private:
+  Transcription* tr_;
+  ceres::Problem* problem_;
+  int n_;
+};
+
+// Solves [J Fp; a^T] x = b by sparse LU (not the normal equations: J's condition is not squared).
+bool SolveBordered(const Eigen::SparseMatrix<double>& J, const Eigen::VectorXd& Fp,
+                   const Eigen::VectorXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x) {
+  const Eigen::Index n = J.rows();
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(J.nonZeros() + 2 * n + 1);
+  for (int k = 0; k < J.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(J, k); it; ++it)
+      t.emplace_back(it.row(), it.col(), it.value());
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (Fp[i] != 0.0) t.emplace_back(i, n, Fp[i]);
+    if (a[i] != 0.0) t.emplace_back(n, i, a[i]);
+  }
+  t.emplace_back(n, n, a[n]);
+  Eigen::SparseMatrix<double> A(n + 1, n + 1);
+  A.setFromTriplets(t.begin(), t.end());
+  A.makeCompressed();
+  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(A);
+  if (lu.info() != Eigen::Success) return false;
+  *x = lu.solve(b);
+  return x->allFinite();
+}
+
+// Newton with sparse LU at fixed eps from the current unknowns; true when max |F| <= tol.
+bool NewtonAtFixedEps(CurveSystem* sys, Transcription* tr, double eps, double tol, int max_its,
+                      double* max_residual, int* its) {
+  Eigen::VectorXd v = sys->Get(), F, Fp;
+  Eigen::SparseMatrix<double> J;
+  for (*its = 0;; ++*its) {
+    sys->Set(v);
+    if (!sys->Evaluate(eps, &F, *its < max_its ? &J : nullptr, &Fp)) return false;
+    *max_residual = F.lpNorm<Eigen::Infinity>();
+    if (*max_residual <= tol) return true;
+    if (*its == max_its) return false;
+    Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(J);
+    if (lu.info() != Eigen::Success) return false;
+    v -= lu.solve(F);
+    for (NodeData& d : tr->mids) d.u_start = d.u;
+  }
+}
+
+// Follows the solution curve y = (v, log eps) from the converged point in `tr` at eps0 down to
+// eps_end by pseudo-arclength steps: predictor along the unit tangent, Newton corrector on
+// [F(y); t^T (y - y_pred)] = 0 (max |F| <= tol), the step grown after an easy corrector and halved
+// after a failed one; the last step lands on eps_end and converges there to final_tol. It stops at
+// a turning point of the curve (eps starts to grow): the points below it in eps are on another
+// branch. Every point is appended to `steps`; true when eps_end was reached.
+bool TraceCurve(const IndirectOptions& options, Transcription* tr, ceres::Problem* problem,
+                double eps0, std::vector<ContinuationStep>* steps) {
+  CurveSystem sys(tr, problem);
+  const int n = sys.size();
+  const double p_end = std::log(options.eps_end), tol = options.path_tolerance;
+  Eigen::VectorXd F, Fp, y(n + 1), t(n + 1);
+  Eigen::SparseMatrix<double> J;
+  y.head(n) = sys.Get();
+  y[n] = std::log(eps0);
+  if (!sys.Evaluate(eps0, &F, &J, &Fp)) return false;
+  {  // the tangent towards smaller eps: J dv/dp = -F_p
+    Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(J);
+    if (lu.info() != Eigen::Success) return false;
+    const Eigen::VectorXd minus_fp = -Fp;
+    t.head(n) = -lu.solve(minus_fp);
+    t[n] = -1.0;
+    t.normalize();
+  }
+  double ds = options.arclength_dlogeps / std::abs(t[n]);
+  std::vector<NodeData> mids_y = tr->mids;
+  for (int attempt = 0; attempt < 400; ++attempt) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const bool last = y[n] + ds * t[n] <= p_end;
+    const double dsi = last ? (p_end - y[n]) / t[n] : ds;
+    const Eigen::VectorXd yp = y + dsi * t;
+    Eigen::VectorXd z = yp, tn;
+    bool ok = false;
+    int its = 0;
+    double max_residual = HUGE_VAL;
+    if (last) {
+      sys.Set(yp.head(n));
+      ok = NewtonAtFixedEps(&sys, tr, options.eps_end, 10.0 * options.residual_tolerance, 12, &max_residual,
+                            &its);
+      z.head(n) = sys.Get();
+      z[n] = p_end;
+    } else {
+      for (its = 0; its <= 8; ++its) {
+        sys.Set(z.head(n));
+        if (!sys.Evaluate(std::exp(z[n]), &F, &J, &Fp)) break;
+        max_residual = F.lpNorm<Eigen::Infinity>();
+        const double arc = t.dot(z - yp);
+        if (max_residual <= tol && std::abs(arc) <= 1e-9 * (1.0 + dsi)) {
+          ok = true;
+          break;
+        }
+        if (its == 8) break;
+        Eigen::VectorXd b(n + 1), dz;
+        b.head(n) = -F;
+        b[n] = -arc;
+        if (!SolveBordered(J, Fp, t, b, &dz)) break;
+        z += dz;
+        for (NodeData& d : tr->mids) d.u_start = d.u;
+      }
+      if (ok) {  // the new tangent: [J Fp; t^T] t_new = [0; 1], oriented along the old one
+        Eigen::VectorXd b = Eigen::VectorXd::Zero(n + 1);
+        b[n] = 1.0;
+        ok = SolveBordered(J, Fp, t, b, &tn);
+        if (ok) {
+          tn.normalize();
+          if (tn.dot(t) < 0.0) tn = -tn;
+        }
+      }
+    }
+    ContinuationStep step;
+    step.eps = last ? options.eps_end : std::exp(z[n]);
+    step.iterations = its;
+    step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    step.converged = ok;
+    std::ostringstream o;
+    o << "arclength eps " << step.eps << ": ";
+    if (!ok) {
+      steps->push_back(step);
+      o << "FAILED in " << its << " iterations, " << step.seconds << " s, max residual "
+        << max_residual;
+      Log(LogKind::kInfo, o.str());
+      tr->mids = mids_y;
+      sys.Set(y.head(n));
+      ds = 0.5 * dsi;
+      if (ds * std::abs(t[n]) < 1e-6) return false;
+      continue;
+    }
+    for (NodeData& d : tr->mids) d.u_start = d.u;
+    tr->weight = WeightFor(step.eps);
+    tr->EvaluateMids(false);
+    step.lap_time = tr->LapTime();
+    steps->push_back(step);
+    o << "converged in " << its << " iterations, " << step.seconds << " s, lap " << step.lap_time
+      << " s, max residual " << max_residual;
+    if (!last) o << ", d log eps / ds " << tn[n];
+    Log(LogKind::kInfo, o.str());
+    if (last) return true;
+    if (tn[n] >= 0.0) {  // a turning point between y and z: stop at z
+      Log(LogKind::kInfo, "arclength: turning point of the solution curve at eps " +
+                              std::to_string(step.eps));
+      return false;
+    }
+    y = z;
+    t = tn;
+    mids_y = tr->mids;
+    if (its <= 3) ds = 1.5 * dsi;
+    else if (its >= 6) ds = 0.7 * dsi;
+  }
+  return false;
 }
 
 // The barrier continuation: solve at eps, shrink eps by the factor after a converged step, go
@@ -118,6 +331,26 @@ Continuation RunContinuation(const IndirectOptions& options, Transcription* tr,
       retries = 0;
       for (NodeData& d : tr->mids) d.u_start = d.u;
       if (last_step) break;
+      if (options.arclength) {  // the rest of the way along the curve (TraceCurve)
+        std::vector<ContinuationStep> curve;
+        const bool reached = TraceCurve(options, tr, problem, eps, &curve);
+        for (const ContinuationStep& s : curve) {
+          summary->iterations += s.iterations;
+          summary->steps.push_back(s);
+        }
+        // TraceCurve leaves the unknowns at its last converged point, whose residual levels are
+        // those of the curve's tolerance (or the final one at eps_end)
+        for (const ContinuationStep& s : curve)
+          if (s.converged) c.good.push_back(s);  // the last two give the extrapolation
+        if (c.good.size() > 1) {
+          tr->weight = WeightFor(c.good.back().eps);
+          ResidualLevels(tr, &c.max_all, &c.max_state);
+          w_good = tr->w;
+          mids_good = tr->mids;
+        }
+        if (!reached) c.failed_eps = curve.empty() ? eps : curve.back().eps;
+        break;
+      }
       factor = std::max(options.eps_factor, factor * factor);  // back towards the full step
       eps = std::max(options.eps_end, eps * factor);
       continue;

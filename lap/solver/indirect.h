@@ -32,6 +32,14 @@ struct IndirectOptions {
   // into its iteration limit (docs/lap.md).
   double path_tolerance = 1e-7;
   double constraint_tolerance = 1e-4;  // largest allowed g_j > 0 (relative) in the answer
+  // After the first step, follow the solution curve in (unknowns, log eps) by pseudo-arclength
+  // steps (tangent predictor, Newton corrector on the bordered system by sparse LU) instead of
+  // shrinking eps with Levenberg-Marquardt. On the first 5 km of the TT course (10 m mesh,
+  // eps_start 0.1) the curve is nearly vertical at eps ~3.4e-3 (d log eps / ds ~ 2e-3, the roll
+  // weave at s ~2.9 km grows): Levenberg-Marquardt on the normal equations (condition squared,
+  // sigma_min(J) ~ 1e-6) stalled there; the bordered Newton passes it (docs/lap.md).
+  bool arclength = true;
+  double arclength_dlogeps = 0.36;  // first step's change of log eps (~ log of eps_factor)
   int num_threads = 2;           // for the node evaluations and Ceres
   bool verbose = false;          // Ceres' per-iteration log
 };
