@@ -51,8 +51,7 @@ int main(int argc, char** argv) {
   mesh_options.ds_m = std::stod(argv[3]);
   if (argc > 6) mesh_options.dt_max_s = std::stod(argv[6]);
   const double length = std::min(std::stod(argv[4]), road.Length());
-  const std::vector<double> mesh =
-      TimeLimitedMesh(length, ComputeQss(v, road, UniformMesh(length, mesh_options.ds_m)), mesh_options);
+  const std::vector<double> mesh = LapMesh(v, road, length, mesh_options);
   const std::string which = argc > 5 ? argv[5] : "both";
   const QssLap qss = ComputeQss(v, road, mesh);
   std::printf("%zu nodes over %.1f m, QSS lap %.4f s\n", mesh.size(), mesh.back(), qss.lap_time);

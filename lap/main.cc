@@ -127,8 +127,7 @@ int Run(const Arguments& a) {
   const Vehicle v = MakeVehicle(bike);
   const RoadTrack track(road, a.road);
   const std::string road_sha256 = ttz::FileSha256(a.road);
-  const std::vector<double> mesh = TimeLimitedMesh(
-      track.Length(), ComputeQss(v, track, UniformMesh(track.Length(), a.mesh.ds_m)), a.mesh);
+  const std::vector<double> mesh = LapMesh(v, track, track.Length(), a.mesh);
   const QssLap qss = ComputeQss(v, track, mesh);
   IndirectOptions options;
   if (a.max_iterations > 0) options.max_iterations = a.max_iterations;

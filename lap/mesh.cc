@@ -38,4 +38,10 @@ std::vector<double> TimeLimitedMesh(double length, const QssLap& qss, const Mesh
   return mesh;
 }
 
+std::vector<double> LapMesh(const Vehicle& v, const RoadTrack& road, double length, const MeshOptions& options) {
+  const std::vector<double> uniform = UniformMesh(length, options.ds_m);
+  if (options.dt_max_s <= 0.0) return uniform;
+  return TimeLimitedMesh(length, ComputeQss(v, road, uniform), options);
+}
+
 }  // namespace ttz::lap

@@ -12,7 +12,9 @@
 
 #include <vector>
 
+#include "lap/model/vehicle.h"
 #include "lap/qss.h"
+#include "lap/road_track.h"
 
 namespace ttz::lap {
 
@@ -32,5 +34,9 @@ std::vector<double> UniformMesh(double length, double ds);
 // options.dt_max_s at the speed of `qss` (the QSS lap on any mesh of the same road; linear in s
 // between its nodes, the interval's smaller end speed).
 std::vector<double> TimeLimitedMesh(double length, const QssLap& qss, const MeshOptions& options);
+
+// The mesh of `lap` on the first `length` metres of `road`: TimeLimitedMesh with the QSS lap of
+// vehicle `v` on the uniform mesh (not computed when options.dt_max_s is 0).
+std::vector<double> LapMesh(const Vehicle& v, const RoadTrack& road, double length, const MeshOptions& options);
 
 }  // namespace ttz::lap

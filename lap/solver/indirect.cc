@@ -36,8 +36,7 @@ class AcceptControls : public ceres::IterationCallback {
  public:
   explicit AcceptControls(Transcription* tr) : tr_(tr) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) final {
-    if (s.step_is_successful)
-      for (NodeData& d : tr_->mids) d.u_start = d.u;
+    if (s.step_is_successful) tr_->KeepControlsAsStarts();
     return ceres::SOLVER_CONTINUE;
   }
 
@@ -158,7 +157,7 @@ bool NewtonAtFixedEps(CurveSystem* sys, Transcription* tr, double eps, double to
     Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(J);
     if (lu.info() != Eigen::Success) return false;
     v -= lu.solve(F);
-    for (NodeData& d : tr->mids) d.u_start = d.u;
+    tr->KeepControlsAsStarts();
   }
 }
 
@@ -219,7 +218,7 @@ bool TraceCurve(const IndirectOptions& options, Transcription* tr, ceres::Proble
         b[n] = -arc;
         if (!SolveBordered(J, Fp, t, b, &dz)) break;
         z += dz;
-        for (NodeData& d : tr->mids) d.u_start = d.u;
+        tr->KeepControlsAsStarts();
       }
       if (ok) {  // the new tangent: [J Fp; t^T] t_new = [0; 1], oriented along the old one
         Eigen::VectorXd b = Eigen::VectorXd::Zero(n + 1);
@@ -249,7 +248,7 @@ bool TraceCurve(const IndirectOptions& options, Transcription* tr, ceres::Proble
       if (ds * std::abs(t[n]) < 1e-6) return false;
       continue;
     }
-    for (NodeData& d : tr->mids) d.u_start = d.u;
+    tr->KeepControlsAsStarts();
     tr->weight = WeightFor(step.eps);
     tr->EvaluateMids(false);
     step.lap_time = tr->LapTime();
@@ -329,7 +328,7 @@ Continuation RunContinuation(const IndirectOptions& options, Transcription* tr,
       w_good = tr->w;
       mids_good = tr->mids;
       retries = 0;
-      for (NodeData& d : tr->mids) d.u_start = d.u;
+      tr->KeepControlsAsStarts();
       if (last_step) break;
       if (options.arclength) {  // the rest of the way along the curve (TraceCurve)
         std::vector<ContinuationStep> curve;

@@ -45,6 +45,10 @@ struct Transcription {
   void EvaluateMids(bool jacobians);
   // sum_k h_k / sdot_{k+1/2} [s], from the last EvaluateMids.
   double LapTime() const;
+  // The controls u* of the last EvaluateMids become the Newton starts of the next ones.
+  void KeepControlsAsStarts() {
+    for (NodeData& d : mids) d.u_start = d.u;
+  }
 };
 
 // The transcription of `mesh` for vehicle `v` from a guess: scaled states and costates (zeros
