@@ -676,6 +676,20 @@ def legend(axis, any_unconverged):
     axis.legend(handles=handles, fontsize=7, loc="best")
 
 
+def draw_panels(axes, panels, points, x_of, ref, opt, label_size=None):
+    """One (label, value) panel per axis: the points vs x_of(point), the reference (when there is
+    one) and the optimum marked, labelled and gridded."""
+    x = [x_of(p) for p in points]
+    conv = [p.converged for p in points]
+    for axis, (label, value) in zip(axes, panels):
+        draw_points(axis, x, [value(p) for p in points], conv)
+        if ref:
+            mark(axis, x_of(ref), value(ref), True)
+        mark(axis, x_of(opt), value(opt), False)
+        axis.set_ylabel(label, fontsize=label_size)
+        axis.grid(True, alpha=0.3)
+
+
 def gear_figure(plt, points, ref_gear):
     """Fig. 12: five panels vs gear ratio."""
     points = sorted(points, key=lambda p: p.gear)
@@ -689,15 +703,8 @@ def gear_figure(plt, points, ref_gear):
               ("energy used [MJ]", lambda p: p.energy_used / 1e6),
               ("power-train efficiency [%]", lambda p: 100 * p.efficiency)]
     figure, axes = plt.subplots(len(panels), 1, sharex=True, figsize=(7, 12))
-    for axis, (label, value) in zip(axes, panels):
-        draw_points(axis, x, [value(p) for p in points], conv)
-        if label.startswith("energy"):
-            axis.plot(x, [p.pack_mj for p in points], "k-", lw=1.5, label="pack energy")
-        if ref:
-            mark(axis, ref.gear, value(ref), True)
-        mark(axis, opt.gear, value(opt), False)
-        axis.set_ylabel(label, fontsize=8)
-        axis.grid(True, alpha=0.3)
+    draw_panels(axes, panels, points, lambda p: p.gear, ref, opt, label_size=8)
+    axes[3].plot(x, [p.pack_mj for p in points], "k-", lw=1.5, label="pack energy")  # energy panel
     legend(axes[0], not all(conv))
     axes[-1].set_xlabel("wheel-to-motor gear ratio [1]")
     figure.suptitle("gear ratio study (paper Fig. 12)")
@@ -708,20 +715,13 @@ def gear_figure(plt, points, ref_gear):
 def battery_figure(plt, points, ref_pack_mj):
     """Fig. 14: lap time and battery usage vs pack energy."""
     points = sorted(points, key=lambda p: p.pack_j)
-    x = [p.pack_mj for p in points]
     conv = [p.converged for p in points]
     opt = best(points)
     ref = find(points, lambda p: is_reference_pack(p, ref_pack_mj))
     panels = [("lap time [s]", lambda p: p.lap_time),
               ("battery usage [% of pack]", lambda p: 100 * p.energy_fraction)]
     figure, axes = plt.subplots(2, 1, sharex=True, figsize=(7, 6))
-    for axis, (label, value) in zip(axes, panels):
-        draw_points(axis, x, [value(p) for p in points], conv)
-        if ref:
-            mark(axis, ref.pack_mj, value(ref), True)
-        mark(axis, opt.pack_mj, value(opt), False)
-        axis.set_ylabel(label)
-        axis.grid(True, alpha=0.3)
+    draw_panels(axes, panels, points, lambda p: p.pack_mj, ref, opt)
     axes[1].axhline(100.0, color="k", lw=1, ls="--")
     legend(axes[0], not all(conv))
     axes[-1].set_xlabel("pack energy [MJ]")

@@ -3,7 +3,6 @@
 fitted key; failed laps and exhausted evaluations refused."""
 import os
 import stat
-import tempfile
 import unittest
 
 import ttz_fixtures as fx
@@ -27,19 +26,15 @@ def read_lines(path):
         return handle.read().splitlines()
 
 
-class CalibrateTest(fx.ScriptAssertions, unittest.TestCase):
+class CalibrateTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
     def setUp(self):
-        self.tmp = tempfile.TemporaryDirectory()
-        self.dir = self.tmp.name
-        self.lap = os.path.join(self.dir, "lap")
+        super().setUp()
+        self.lap = self.path("lap")
         with open(self.lap, "w") as handle:
             handle.write(FAKE_LAP)
         os.chmod(self.lap, os.stat(self.lap).st_mode | stat.S_IEXEC)
-        self.log = os.path.join(self.dir, "laps.log")
-        self.out = os.path.join(self.dir, "calibration.txt")
-
-    def tearDown(self):
-        self.tmp.cleanup()
+        self.log = self.path("laps.log")
+        self.out = self.path("calibration.txt")
 
     def calibrate(self, *extra, exit_code=0):
         os.environ.update(FAKE_LOG=self.log, FAKE_EXIT=str(exit_code))  # read by FAKE_LAP

@@ -3,7 +3,6 @@
 import json
 import math
 import os
-import tempfile
 import unittest
 
 import ttz_fixtures as fx
@@ -43,10 +42,9 @@ def profile(s):
     return 100.0 + 20.0 * math.sin(2 * math.pi * s / (4 * SIDE_M))
 
 
-class ElevationCompareTest(fx.ScriptAssertions, unittest.TestCase):
+class ElevationCompareTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
     def setUp(self):
-        self.tmp = tempfile.TemporaryDirectory()
-        self.dir = self.tmp.name
+        super().setUp()
         self.png = self.path("out.png")
         distances = [STEP_M * k for k in range(int(4 * SIDE_M / STEP_M))]
         self.centre = write_points(self.path("centre.csv"), distances, header="lat_deg,lon_deg")
@@ -59,12 +57,6 @@ class ElevationCompareTest(fx.ScriptAssertions, unittest.TestCase):
         # B = A - 3, and A - 13 at s = 500 m.
         b_elev = [e - (13.0 if s == 500.0 else 3.0) for s, e in zip(distances, a_elev)]
         self.b = write_points(self.path("b.csv"), distances, b_elev)
-
-    def tearDown(self):
-        self.tmp.cleanup()
-
-    def path(self, name):
-        return os.path.join(self.dir, name)
 
     def compare(self, a, b, *options):
         return fx.run("elevation_compare.py", a, b, "--centreline", self.centre, "-o", self.png,

@@ -1,7 +1,6 @@
 #!/usr/bin/python3
 """lap_plots.py on tiny lap.h5 / road.h5 fixtures: every file written, bad input refused."""
 import os
-import tempfile
 import unittest
 
 import ttz_fixtures as fx
@@ -10,17 +9,10 @@ PNGS_LAP = ("speed.png", "battery.png", "motor.png", "power.png", "yaw_roll.png"
 PNGS_ROAD = ("map.png", "elevation.png")
 
 
-class LapPlotsTest(fx.ScriptAssertions, unittest.TestCase):
+class LapPlotsTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
     def setUp(self):
-        self.tmp = tempfile.TemporaryDirectory()
-        self.dir = self.tmp.name
-        self.out = os.path.join(self.dir, "out")
-
-    def tearDown(self):
-        self.tmp.cleanup()
-
-    def path(self, name):
-        return os.path.join(self.dir, name)
+        super().setUp()
+        self.out = self.path("out")
 
     def assert_files(self, names):
         """Each file written and non-empty (PNGs: a plot, over 1 kB)."""

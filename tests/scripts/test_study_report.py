@@ -3,7 +3,6 @@
 known optima found, the paper compared, non-converged points reported, bad input refused."""
 import os
 import re
-import tempfile
 import unittest
 
 import h5py
@@ -54,17 +53,10 @@ def write_point(path, lap_time, energy_used, top_speed=60.0, converged=1, messag
     return path
 
 
-class StudyReportTest(fx.ScriptAssertions, unittest.TestCase):
+class StudyReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
     def setUp(self):
-        self.tmp = tempfile.TemporaryDirectory()
-        self.dir = self.tmp.name
-        self.out = os.path.join(self.dir, "out")
-
-    def tearDown(self):
-        self.tmp.cleanup()
-
-    def path(self, *names):
-        return os.path.join(self.dir, *names)
+        super().setUp()
+        self.out = self.path("out")
 
     def gear_study(self):
         """A folder of 11 gear points (2.8 ... 3.8); gear 3.5 did not converge."""

@@ -3,7 +3,6 @@
 import json
 import math
 import os
-import tempfile
 import unittest
 
 import numpy as np
@@ -29,18 +28,11 @@ def write_csv(path, rows, header="t_s,distance_m,v_wheel_mps", comments=()):
     return path
 
 
-class TelemetryOverlayTest(fx.ScriptAssertions, unittest.TestCase):
+class TelemetryOverlayTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
     def setUp(self):
-        self.tmp = tempfile.TemporaryDirectory()
-        self.dir = self.tmp.name
+        super().setUp()
         self.lap = fx.write_lap(self.path("lap.h5"))
         self.png = self.path("overlay.png")
-
-    def tearDown(self):
-        self.tmp.cleanup()
-
-    def path(self, name):
-        return os.path.join(self.dir, name)
 
     def overlay(self, csv_path, *options):
         return fx.run("telemetry_overlay.py", self.lap, csv_path, "-o", self.png, *options)

@@ -4,6 +4,7 @@ of the scripts under /usr/bin/python3."""
 import os
 import subprocess
 import sys
+import tempfile
 
 import h5py
 import numpy as np
@@ -74,6 +75,20 @@ def run(script, *args):
     env = dict(os.environ, MPLBACKEND="Agg")
     return subprocess.run([PYTHON, os.path.join(SCRIPTS, script), *map(str, args)],
                           capture_output=True, text=True, env=env, timeout=120)
+
+
+class TempFolder:
+    """Mixin of unittest.TestCase: a temporary folder self.dir per test, removed afterwards."""
+
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.dir = self.tmp.name
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def path(self, *names):
+        return os.path.join(self.dir, *names)
 
 
 class ScriptAssertions:
