@@ -36,6 +36,15 @@ struct Arguments {
   bool json = false, quiet = false, verbose = false;
 };
 
+// CLI::NonNegativeNumber's message prints the whole double range; this one says what is expected.
+const CLI::Validator kNonNegative(
+    [](std::string& text) {
+      double x = 0.0;
+      if (CLI::detail::lexical_cast(text, x) && x >= 0.0) return std::string();
+      return "value " + text + " is not a non-negative number";
+    },
+    "NONNEGATIVE");
+
 void DefineOptions(CLI::App& app, Arguments& a) {
   app.add_option("ROAD", a.road, "the road (road.h5 from road_fit, docs/road_h5.md)")->required();
   app.add_option("BIKE", a.bike, "the motorcycle (bike.yaml, docs/bike.md)")->required();
@@ -46,7 +55,7 @@ void DefineOptions(CLI::App& app, Arguments& a) {
       ->capture_default_str();
   app.add_option("--dt-max", a.mesh.dt_max_s,
                  "largest duration of a mesh interval at the quasi-steady speed [s]; 0: a uniform mesh (lap/mesh.h)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(kNonNegative)
       ->capture_default_str();
   app.add_option("--init", a.init, "warm start from an earlier lap.h5 of this road (states, costates, barrier weight)");
   app.add_option("--solver", a.solver, "indirect (Ceres, the default) or ipopt (the direct-transcription oracle)")

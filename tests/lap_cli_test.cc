@@ -314,6 +314,7 @@ TEST_F(LapCli, UnwritableOutputFolder) {
 TEST_F(LapCli, BadOptions) {
   ExpectBadInput(Lap("road.h5 bike.yaml --ds -1"), "--ds");
   ExpectBadInput(Lap("road.h5 bike.yaml --solver newton"), "--solver");
+  ExpectBadInput(Lap("road.h5 bike.yaml --dt-max -0.5"), "--dt-max: value -0.5 is not a non-negative number");
 }
 
 }  // namespace
