@@ -56,6 +56,13 @@ class CalibrateTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
         self.assertTrue(os.path.exists(self.out))
         self.assertFalse(any("--init" in lap for lap in read_lines(self.log)))
 
+    def test_parallel_start_solves_both_start_values_and_keeps_the_closest_lap(self):
+        # The first start value already meets the target: both start laps run, the fit keeps the
+        # first (1000 + 3e5 / 389 = 1771.2 s) and solves nothing more.
+        self.assert_ok(self.calibrate("--parallel-start", "--start", "389", "300"))
+        self.assertEqual(len(read_lines(self.log)), 2)
+        self.assertEqual(read_lines(self.out)[-1], "motor.current_max_a=389")
+
     def test_a_lap_that_did_not_converge_ends_the_calibration(self):
         self.assert_refused(self.calibrate(exit_code=3), "exit 3", absent=[self.out])
 
