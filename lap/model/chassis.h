@@ -49,17 +49,17 @@ Equations<T> NewtonEuler(const Vehicle& v, const StateVector<T>& x, const Kinema
   Equations<T> e;
 
   // eq. 13a
-  e[0] = k.dv_x * Cst<T>(M) + k.dOmega_y * ((cp * (-a) - r_t + z) * M) +
+  e[0] = k.dv_x * M + k.dOmega_y * ((cp * (-a) - r_t + z) * M) +
          A(-2.0 * M * a * (Oz * cp - Oy * sp) * phid - M * sp * a * k.dOmega_z + 2.0 * M * Oy * zd -
            M * Ox * Oz * a * cp + M * Ox * Oy * a * sp + M * ((z - r_t) * Ox + vy) * Oz +
            M * Oy * vz - (f.F_x - f.D - M * gs * cal));
   // eq. 13b
-  e[1] = k.dv_y * Cst<T>(M) + phidd * (M * cp * a) + k.dOmega_x * (M * (a * cp + r_t - z)) +
+  e[1] = k.dv_y * M + phidd * (M * cp * a) + k.dOmega_x * (M * (a * cp + r_t - z)) +
          A(-M * sp * a * phid * phid - 2.0 * M * sp * Ox * a * phid - 2.0 * M * Ox * zd -
            M * a * (Oz * Oz + Ox * Ox) * sp - M * Oy * Oz * a * cp - M * ((r_t - z) * Oy - vx) * Oz -
            M * Ox * vz - (f.F_y + f.L * sp + M * gs * sal));
   // eq. 13c
-  e[2] = zdd * Cst<T>(M) + phidd * (M * sp * a) + k.dOmega_x * (M * sp * a) + k.dv_z * Cst<T>(M) +
+  e[2] = zdd * M + phidd * (M * sp * a) + k.dOmega_x * (M * sp * a) + k.dv_z * M +
          A(M * cp * a * phid * phid + 2.0 * M * cp * Ox * a * phid +
            M * cp * a * (Ox * Ox + Oy * Oy) + M * Oy * Oz * a * sp - M * (z - r_t) * Ox * Ox +
            M * Ox * vy - M * (z - r_t) * Oy * Oy - M * Oy * vx - (M * g - f.N - f.L * cp));
@@ -70,45 +70,54 @@ Equations<T> NewtonEuler(const Vehicle& v, const StateVector<T>& x, const Kinema
       (k.dOmega_x * (2.0 * cp) + A(-2.0 * cp * Oz * Oy + sp * (Oy * Oy - Oz * Oz - phid * phid -
                                                               2.0 * Ox * phid))) *
           (a * (r_t - z)) +
-      (k.dOmega_x + A(sp * cp * (Oy * Oy - Oz * Oz) - 2.0 * cp * cp * Ox * Oy)) * Cst<T>(a * a) +
+      (k.dOmega_x + A(sp * cp * (Oy * Oy - Oz * Oz) - 2.0 * cp * cp * Ox * Oy)) * (a * a) +
       k.dOmega_x * (z * z - 2.0 * r_t * z) + A((v.h - z) * (v.h - 2.0 * r_t + z) * Oy * Oz) +
       (k.dv_y + A(-vz * Ox + vx * Oz - 2.0 * zd * Ox - gs * sal)) * (r_t - z);
   // eq. 14
-  e[3] = phidd * ((-a * (z - r_t) * cp + a * a) * M + v.I_xx) + k.dOmega_x * Cst<T>(v.I_xx) +
+  e[3] = phidd * ((-a * (z - r_t) * cp + a * a) * M + v.I_xx) + k.dOmega_x * v.I_xx +
          A((Oz * cp - Oy * sp) * v.I_gy * x[kOmegaW] + sp * (z - r_t) * f.L +
            (v.I_yy - v.I_zz) * (cp * sp * (Oy * Oy - Oz * Oz) + Oy * Oz * (1.0 - 2.0 * cp * cp))) +
-         T_phi * Cst<T>(M);
+         T_phi * M;
   // eq. 16
-  e[4] = wd * Cst<T>(v.I_wy) - k.dOmega_y * (v.I_wy * cp) +
+  e[4] = wd * v.I_wy - k.dOmega_y * (v.I_wy * cp) +
          A(-f.tau_w + f.tau_r + f.F_x * (v.r - v.r_t * (1.0 - cp) - z * cp) -
            v.I_wy * (sp * k.dOmega_z + (Oz * cp - Oy * sp) * phid));
   return e;
 }
 
 // Solves the affine equations e(a) = 0 for the accelerations a: Gaussian elimination with partial
-// pivoting on the values (Eigen's LU does not accept nested Jets).
+// pivoting on the values (Eigen's LU does not accept nested Jets), skipping the coefficients that
+// are structurally zero (Affine::used).
 template <typename T>
 std::array<T, kNumAccels> SolveAccelerations(const Equations<T>& e) {
   constexpr int n = kNumAccels;
   std::array<std::array<T, n + 1>, n> m;  // [A | b]
+  std::array<unsigned, n> nz;             // bit j of nz[i]: m[i][j] may be non-zero
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) m[i][j] = e[i].a[j];
     m[i][n] = -e[i].c;
+    nz[i] = e[i].used | (1u << n);
   }
+  auto may_be_non_zero = [&](int i, int j) { return (nz[i] >> j) & 1u; };
   for (int col = 0; col < n; ++col) {
     int pivot = col;
     for (int i = col + 1; i < n; ++i)
       if (std::abs(Val(m[i][col])) > std::abs(Val(m[pivot][col]))) pivot = i;
     std::swap(m[col], m[pivot]);
+    std::swap(nz[col], nz[pivot]);
     for (int i = col + 1; i < n; ++i) {
+      if (!may_be_non_zero(i, col)) continue;
       const T factor = m[i][col] / m[col][col];
-      for (int j = col; j <= n; ++j) m[i][j] = m[i][j] - factor * m[col][j];
+      for (int j = col + 1; j <= n; ++j)
+        if (may_be_non_zero(col, j)) m[i][j] = m[i][j] - factor * m[col][j];
+      nz[i] |= nz[col];
     }
   }
   std::array<T, n> acc;
   for (int i = n - 1; i >= 0; --i) {
     T sum = m[i][n];
-    for (int j = i + 1; j < n; ++j) sum = sum - m[i][j] * acc[j];
+    for (int j = i + 1; j < n; ++j)
+      if (may_be_non_zero(i, j)) sum = sum - m[i][j] * acc[j];
     acc[i] = sum / m[i][i];
   }
   return acc;

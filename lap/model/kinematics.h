@@ -18,27 +18,50 @@ namespace ttz::lap {
 // The accelerations of eq. 13-16, the unknowns of the linear system A a = b.
 enum AccelIndex : int { kVdot = 0, kBetadot, kZddot, kPhiddot, kOmegaWdot, kNumAccels };
 
-// c + sum_j a[j] * acc_j.
+// c + sum_j a[j] * acc_j. `used` marks the coefficients that may be non-zero: most are zero
+// (dv_x is acc_0 alone), and the operators skip those, which matters with nested Jets, where a
+// product costs a thousand flops (bench/node_bench).
 template <typename T>
 struct Affine {
   T c;
-  std::array<T, kNumAccels> a;
+  std::array<T, kNumAccels> a{};  // value-initialised: zero for double and Jets
+  unsigned used = 0;              // bit j: a[j] may be non-zero
 
-  explicit Affine(const T& constant = Cst<T>(0.0)) : c(constant) { a.fill(Cst<T>(0.0)); }
+  explicit Affine(const T& constant = Cst<T>(0.0)) : c(constant) {}
   static Affine Unit(int j) {
     Affine r;
-    r.a[j] = Cst<T>(1.0);
+    r.Set(j, Cst<T>(1.0));
     return r;
   }
-  Affine operator+(const Affine& o) const {
-    Affine r(c + o.c);
-    for (int j = 0; j < kNumAccels; ++j) r.a[j] = a[j] + o.a[j];
-    return r;
+  void Set(int j, const T& coefficient) {
+    a[j] = coefficient;
+    used |= 1u << j;
   }
-  Affine operator-(const Affine& o) const { return *this + o * Cst<T>(-1.0); }
-  Affine operator*(const T& k) const {
+  bool Uses(int j) const { return (used >> j) & 1u; }
+  Affine operator+(const Affine& o) const { return Combine(o, 1.0); }
+  Affine operator-(const Affine& o) const { return Combine(o, -1.0); }
+  template <typename K>  // K = T or double
+  Affine operator*(const K& k) const {
     Affine r(c * k);
-    for (int j = 0; j < kNumAccels; ++j) r.a[j] = a[j] * k;
+    r.used = used;
+    for (int j = 0; j < kNumAccels; ++j)
+      if (Uses(j)) r.a[j] = a[j] * k;
+    return r;
+  }
+
+ private:
+  // *this + sign o, sign = +-1.
+  Affine Combine(const Affine& o, double sign) const {
+    Affine r(sign > 0.0 ? c + o.c : c - o.c);
+    r.used = used | o.used;
+    for (int j = 0; j < kNumAccels; ++j) {
+      if (Uses(j) && o.Uses(j))
+        r.a[j] = sign > 0.0 ? a[j] + o.a[j] : a[j] - o.a[j];
+      else if (Uses(j))
+        r.a[j] = a[j];
+      else if (o.Uses(j))
+        r.a[j] = sign > 0.0 ? o.a[j] : -o.a[j];
+    }
     return r;
   }
 };
@@ -83,8 +106,8 @@ Kinematics<T> ComputeKinematics(const StateVector<T>& x, const ControlVector<T>&
   //              + V c (dn/dt kappa + n kappa' sdot) / D^2
   Affine<T> sddot(V * (beta * ca - sa) * k.alphadot / D +
                   V * c * (k.ndot * road.kappa + n * road.dkappa * k.sdot) / (D * D));
-  sddot.a[kVdot] = c / D;
-  sddot.a[kBetadot] = V * sa / D;
+  sddot.Set(kVdot, c / D);
+  sddot.Set(kBetadot, V * sa / D);
   const T dP = (road.dnu * sa + road.dtau * ca) * k.sdot + Q * k.alphadot;
   const T dQ = (road.dnu * ca - road.dtau * sa) * k.sdot - P * k.alphadot;
   k.dOmega_x = sddot * P + Affine<T>(k.sdot * dP);

@@ -21,9 +21,29 @@ namespace ceres {
   }
 TTZ_NESTED_JET_OP(+)
 TTZ_NESTED_JET_OP(-)
-TTZ_NESTED_JET_OP(*)
-TTZ_NESTED_JET_OP(/)
 #undef TTZ_NESTED_JET_OP
+
+// A nested Jet times a double scales each part by the double (Ceres would promote the double to a
+// Jet<U, N> and multiply Jets: twice the work, node_bench).
+template <typename U, int N, int M>
+inline Jet<Jet<U, N>, M> operator*(const Jet<Jet<U, N>, M>& f, double s) {
+  Jet<Jet<U, N>, M> r;
+  r.a = f.a * s;
+  for (int i = 0; i < M; ++i) r.v[i] = f.v[i] * s;
+  return r;
+}
+template <typename U, int N, int M>
+inline Jet<Jet<U, N>, M> operator*(double s, const Jet<Jet<U, N>, M>& f) {
+  return f * s;
+}
+template <typename U, int N, int M>
+inline Jet<Jet<U, N>, M> operator/(const Jet<Jet<U, N>, M>& f, double s) {
+  return f * (1.0 / s);
+}
+template <typename U, int N, int M>
+inline Jet<Jet<U, N>, M> operator/(double s, const Jet<Jet<U, N>, M>& f) {
+  return Jet<U, N>(s) / f;
+}
 
 }  // namespace ceres
 
