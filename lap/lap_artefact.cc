@@ -132,9 +132,12 @@ void WriteAttributes(ArtefactWriter& w, const LapSolution& sol, const SolveSumma
   w.WriteAttribute("message", SolveMessage(summary));
   w.WriteAttribute("max_residual", summary.max_residual);
   w.WriteAttribute("max_state_defect", summary.max_state_defect);
-  for (int j = 0; j < kNumConstraints; ++j)
+  for (int j = 0; j < kNumConstraints; ++j) {
     w.WriteAttribute(std::string("max_violation_") + kConstraintNames[j],
                      *std::max_element(ch.constraint[j].begin(), ch.constraint[j].end()));
+    w.WriteAttribute(std::string("solver_max_violation_") + kConstraintNames[j],
+                     summary.max_violation[j]);
+  }
   w.WriteAttribute("control_failures", static_cast<int64_t>(summary.control_failures));
   w.WriteAttribute("iterations", static_cast<int64_t>(summary.iterations));
   w.WriteAttribute("solve_seconds", summary.solve_seconds);

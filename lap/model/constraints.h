@@ -35,11 +35,12 @@ inline constexpr std::array<const char*, kNumConstraints> kConstraintNames = {
 template <typename T>
 using ConstraintVector = std::array<T, kNumConstraints>;
 
-// g_j <= 0, each scaled by its limit.
+// g_j <= 0, each scaled by its limit. Every constraint is a function of the state alone (with the
+// road's width): the tyre's ellipse and the power train's current, power and voltages follow from
+// the state (tyre.h, powertrain.h), so the constraints can be checked at any point of a trajectory.
 template <typename T>
-ConstraintVector<T> EvaluateConstraints(const Vehicle& v, const StateVector<T>& x,
-                                        const ControlVector<T>& u, const RoadPoint& road,
-                                        const ModelPoint<T>& m) {
+ConstraintVector<T> ConstraintsFrom(const Vehicle& v, const StateVector<T>& x, const RoadPoint& road,
+                                    const TyreForces<T>& tyre, const Powertrain<T>& power) {
   ConstraintVector<T> g;
   const double half = 0.5 * road.width - v.border_margin;
   g[kBorderRight] = x[kN] / half - 1.0;
@@ -48,14 +49,31 @@ ConstraintVector<T> EvaluateConstraints(const Vehicle& v, const StateVector<T>& 
   g[kRollRateMin] = -x[kOmegaPhi] / v.omega_phi_max - 1.0;
   g[kYawRateMax] = x[kOmegaZ] / v.Omega_z_max - 1.0;
   g[kYawRateMin] = -x[kOmegaZ] / v.Omega_z_max - 1.0;
-  g[kAdherence] = m.tyre.ellipse - 1.0;
-  g[kMotorCurrent] = m.power.i_m / v.motor.current_max - 1.0;
-  g[kBatteryPower] = m.power.P_b / v.P_b_max - 1.0;
+  g[kAdherence] = tyre.ellipse - 1.0;
+  g[kMotorCurrent] = power.i_m / v.motor.current_max - 1.0;
+  g[kBatteryPower] = power.P_b / v.P_b_max - 1.0;
   g[kCharge] = -x[kE] / v.pack.e_i;
-  g[kMotorVoltageMax] = m.power.V_mm / v.motor.voltage_max - 1.0;
-  g[kMotorVoltagePack] = (m.power.V_mm - m.power.V_mb) / v.motor.voltage_max;
+  g[kMotorVoltageMax] = power.V_mm / v.motor.voltage_max - 1.0;
+  g[kMotorVoltagePack] = (power.V_mm - power.V_mb) / v.motor.voltage_max;
   g[kBrakeTorque] = -x[kTauW] / v.brake_torque_max - 1.0;
   return g;
+}
+
+// The constraints at a point of the model already evaluated (m = EvaluateModel(v, x, u, road)).
+template <typename T>
+ConstraintVector<T> EvaluateConstraints(const Vehicle& v, const StateVector<T>& x,
+                                        const ControlVector<T>&, const RoadPoint& road,
+                                        const ModelPoint<T>& m) {
+  return ConstraintsFrom(v, x, road, m.tyre, m.power);
+}
+
+// The constraints at a state alone (the tyre and power train evaluated here).
+template <typename T>
+ConstraintVector<T> StateConstraints(const Vehicle& v, const StateVector<T>& x,
+                                     const RoadPoint& road) {
+  return ConstraintsFrom(v, x, road,
+                         ComputeTyre(v, x[kV], x[kBeta], x[kZ], x[kPhi], x[kOmegaW], x[kZdot]),
+                         ComputePowertrain(v, x[kTauW], x[kOmegaW], x[kV], x[kT], x[kE]));
 }
 
 // The relaxed barrier ("activation") of one constraint g <= 0: -log(-g) for g <= -delta, and for

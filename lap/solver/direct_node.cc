@@ -32,6 +32,53 @@ bool Evaluate(const DirectNode& node, const std::array<T, kNodeVars>& z, Outputs
   return true;
 }
 
+// g(x) at a node's scaled state x~ in any scalar type; false where the model is undefined.
+template <typename T>
+bool EvaluateAtState(const DirectNode& node, const std::array<T, kNumStates>& xs,
+                     std::array<T, kNumConstraints>* g) {
+  StateVector<T> x;
+  for (int i = 0; i < kNumStates; ++i) x[i] = xs[i] * node.sc.state[i];
+  if (!(Val(x[kV]) > 0.1)) return false;
+  *g = StateConstraints(*node.v, x, node.road);
+  for (const T& gj : *g)
+    if (!std::isfinite(Val(gj))) return false;
+  return true;
+}
+
+// The outputs out(z) of eval(z, &out) (M of them, z of size N) and their Jacobian, by Jets.
+template <int M, typename F, typename Z, typename Y, typename J>
+bool ValuesAndJacobian(F eval, const Z& z, Y* y, J* jac) {
+  constexpr int N = Z::RowsAtCompileTime;
+  using J1 = ceres::Jet<double, N>;
+  std::array<J1, N> zz;
+  for (int i = 0; i < N; ++i) zz[i] = J1(z(i), i);
+  std::array<J1, M> out;
+  if (!eval(zz, &out)) return false;
+  for (int o = 0; o < M; ++o) {
+    (*y)(o) = out[o].a;
+    jac->row(o) = out[o].v.transpose();
+  }
+  return jac->allFinite();
+}
+
+// The Hessian of w^T out(z) by nested Jets (both triangles filled).
+template <int M, typename F, typename Z, typename W, typename H>
+bool WeightedHessian(F eval, const Z& z, const W& w, H* hess) {
+  constexpr int N = Z::RowsAtCompileTime;
+  using J1 = ceres::Jet<double, N>;
+  using J2 = ceres::Jet<J1, N>;
+  std::array<J2, N> zz;
+  for (int i = 0; i < N; ++i) zz[i] = J2(J1(z(i), i), i);
+  std::array<J2, M> out;
+  if (!eval(zz, &out)) return false;
+  J2 sum = Cst<J2>(0.0);
+  for (int o = 0; o < M; ++o)
+    if (w(o) != 0.0) sum = sum + out[o] * w(o);
+  for (int a = 0; a < N; ++a)
+    for (int b = 0; b < N; ++b) (*hess)(a, b) = sum.v[a].v[b];
+  return hess->allFinite();
+}
+
 }  // namespace
 
 bool NodeValues(const DirectNode& node, const NodePoint& z, NodeOutputs* y) {
@@ -44,32 +91,26 @@ bool NodeValues(const DirectNode& node, const NodePoint& z, NodeOutputs* y) {
 }
 
 bool NodeDerivatives(const DirectNode& node, const NodePoint& z, NodeOutputs* y, NodeJacobian* J) {
-  using J1 = ceres::Jet<double, kNodeVars>;
-  std::array<J1, kNodeVars> zz;
-  for (int i = 0; i < kNodeVars; ++i) zz[i] = J1(z(i), i);
-  Outputs<J1> out;
-  if (!Evaluate(node, zz, &out)) return false;
-  for (int o = 0; o < kNumNodeOutputs; ++o) {
-    (*y)(o) = out[o].a;
-    J->row(o) = out[o].v.transpose();
-  }
-  return J->allFinite();
+  return ValuesAndJacobian<kNumNodeOutputs>(
+      [&](const auto& zz, auto* out) { return Evaluate(node, zz, out); }, z, y, J);
 }
 
 bool NodeWeightedHessian(const DirectNode& node, const NodePoint& z, const NodeOutputs& w,
                          NodeHessian* H) {
-  using J1 = ceres::Jet<double, kNodeVars>;
-  using J2 = ceres::Jet<J1, kNodeVars>;
-  std::array<J2, kNodeVars> zz;
-  for (int i = 0; i < kNodeVars; ++i) zz[i] = J2(J1(z(i), i), i);
-  Outputs<J2> out;
-  if (!Evaluate(node, zz, &out)) return false;
-  J2 sum = Cst<J2>(0.0);
-  for (int o = 0; o < kNumNodeOutputs; ++o)
-    if (w(o) != 0.0) sum = sum + w(o) * out[o];
-  for (int a = 0; a < kNodeVars; ++a)
-    for (int b = 0; b < kNodeVars; ++b) (*H)(a, b) = sum.v[a].v[b];
-  return H->allFinite();
+  return WeightedHessian<kNumNodeOutputs>(
+      [&](const auto& zz, auto* out) { return Evaluate(node, zz, out); }, z, w, H);
+}
+
+bool NodeConstraints(const DirectNode& node, const StatePoint& x, NodeConstraintValues* g,
+                     NodeConstraintJacobian* J) {
+  return ValuesAndJacobian<kNumConstraints>(
+      [&](const auto& xx, auto* out) { return EvaluateAtState(node, xx, out); }, x, g, J);
+}
+
+bool NodeConstraintsWeightedHessian(const DirectNode& node, const StatePoint& x,
+                                    const NodeConstraintValues& w, StateHessian* H) {
+  return WeightedHessian<kNumConstraints>(
+      [&](const auto& xx, auto* out) { return EvaluateAtState(node, xx, out); }, x, w, H);
 }
 
 }  // namespace ttz::lap

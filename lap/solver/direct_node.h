@@ -53,4 +53,21 @@ bool NodeDerivatives(const DirectNode& node, const NodePoint& z, NodeOutputs* y,
 bool NodeWeightedHessian(const DirectNode& node, const NodePoint& z, const NodeOutputs& w,
                          NodeHessian* H);
 
+// The constraints at a mesh node, g(x~) of the node's scaled state alone (constraints.h,
+// StateConstraints; the road at the node): the transcription checks them at the nodes as well as
+// at the midpoints (ipopt_direct.h), with their Jacobian by Jets and the Hessian of a weighted sum
+// by nested Jets.
+using StatePoint = Eigen::Matrix<double, kNumStates, 1>;
+using NodeConstraintValues = Eigen::Matrix<double, kNumConstraints, 1>;
+using NodeConstraintJacobian = Eigen::Matrix<double, kNumConstraints, kNumStates, Eigen::RowMajor>;
+using StateHessian = Eigen::Matrix<double, kNumStates, kNumStates>;
+
+// g(x~) and dg/dx~; false where the model is undefined (V <= 0.1 m/s or a non-finite value).
+bool NodeConstraints(const DirectNode& node, const StatePoint& x, NodeConstraintValues* g,
+                     NodeConstraintJacobian* J);
+
+// d2(w^T g)/dx~2 (symmetric, both triangles filled).
+bool NodeConstraintsWeightedHessian(const DirectNode& node, const StatePoint& x,
+                                    const NodeConstraintValues& w, StateHessian* H);
+
 }  // namespace ttz::lap

@@ -23,6 +23,7 @@ using Ipopt::Number;
 // Unknowns of one interval k, contiguous in Ipopt's vector: x~_k, u~_k, x~_{k+1}.
 constexpr int kIntervalVars = 2 * kNumStates + kNumControls;
 constexpr int kLowerTriangle = kIntervalVars * (kIntervalVars + 1) / 2;  // Hessian entries
+constexpr int kStateTriangle = kNumStates * (kNumStates + 1) / 2;       // ... of a node
 constexpr double kMaxStateDefect = 1e-6;   // scaled midpoint defect of an accepted answer
 constexpr double kMaxViolation = 1e-4;     // largest g_j > 0 (relative) of an accepted answer
 
@@ -56,10 +57,12 @@ bool ForEachInterval(int n, int threads, F ok) {
 // The transcription's data: mesh, midpoints (ipopt_direct.h).
 struct Transcription {
   std::vector<double> s, h;  // nodes and interval lengths h_k = s_{k+1} - s_k [m]
-  std::vector<DirectNode> mids;  // the model's data at the interval midpoints s_{k+1/2}
+  std::vector<DirectNode> mids;   // the model's data at the interval midpoints s_{k+1/2}
+  std::vector<DirectNode> nodes;  // ... at the nodes s_k (for the node constraints)
   Scales sc;
-  double rate_weight = 0.0;  // c [s m] of the control-rate term (ipopt_direct.h)
-  int threads = 1;           // for the midpoint evaluations
+  double rate_weight = 0.0;       // c [s m] of the control-rate term (ipopt_direct.h)
+  bool node_constraints = true;   // g_j at the nodes 1..N too (ipopt_direct.h)
+  int threads = 1;                // for the midpoint evaluations
 
   int NumNodes() const { return static_cast<int>(s.size()); }
   int NumIntervals() const { return NumNodes() - 1; }
@@ -72,7 +75,10 @@ struct Transcription {
   int PathRow(int k, int j) const {
     return kNumStates * NumIntervals() + kNumConstraints * k + j;
   }
-  int NumRows() const { return PathRow(NumIntervals(), 0); }
+  // Row of constraint j at node k, 1 <= k <= N (node 0 is the fixed start).
+  int NodeRow(int k, int j) const { return PathRow(NumIntervals(), 0) + kNumConstraints * (k - 1) + j; }
+  int NumNodeRows() const { return node_constraints ? kNumConstraints * NumIntervals() : 0; }
+  int NumRows() const { return PathRow(NumIntervals(), 0) + NumNodeRows(); }
   // Distance between the midpoints of intervals k - 1 and k (0 < k < N) [m].
   double MidSpacing(int k) const { return 0.5 * (h[k - 1] + h[k]); }
 };
@@ -81,7 +87,8 @@ struct Transcription {
 class MidCache {
  public:
   explicit MidCache(const Transcription* tr)
-      : tr_(tr), z_(tr->NumIntervals()), y_(tr->NumIntervals()), J_(tr->NumIntervals()) {}
+      : tr_(tr), z_(tr->NumIntervals()), y_(tr->NumIntervals()), J_(tr->NumIntervals()),
+        x_(tr->NumNodes()), g_(tr->NumNodes()), Jg_(tr->NumNodes()) {}
 
   // Makes y (and J when `derivatives`) current at x; false where the model is undefined.
   bool Update(const Number* x, bool new_x, bool derivatives) {
@@ -91,17 +98,20 @@ class MidCache {
           z_[k](a) = a < kNumStates
                          ? 0.5 * (x[tr_->State(k, a)] + x[tr_->State(k + 1, a)])
                          : x[tr_->Control(k, a - kNumStates)];
+      for (int k = 0; k < tr_->NumNodes(); ++k)
+        for (int i = 0; i < kNumStates; ++i) x_[k](i) = x[tr_->State(k, i)];
       have_point_ = true;
       have_values_ = have_jacobians_ = false;
     }
     if (derivatives && !have_jacobians_) {
       ok_ = ForEachInterval(tr_->NumIntervals(), tr_->threads, [&](int k) {
-        return NodeDerivatives(tr_->mids[k], z_[k], &y_[k], &J_[k]);
+        return NodeDerivatives(tr_->mids[k], z_[k], &y_[k], &J_[k]) && UpdateNode(k + 1);
       });
       have_values_ = have_jacobians_ = true;
     } else if (!have_values_) {
-      ok_ = ForEachInterval(tr_->NumIntervals(), tr_->threads,
-                            [&](int k) { return NodeValues(tr_->mids[k], z_[k], &y_[k]); });
+      ok_ = ForEachInterval(tr_->NumIntervals(), tr_->threads, [&](int k) {
+        return NodeValues(tr_->mids[k], z_[k], &y_[k]) && UpdateNode(k + 1);
+      });
       have_values_ = true;
     }
     return ok_;
@@ -109,12 +119,24 @@ class MidCache {
   const NodePoint& z(int k) const { return z_[k]; }
   const NodeOutputs& y(int k) const { return y_[k]; }
   const NodeJacobian& J(int k) const { return J_[k]; }
+  // Node k's scaled state, constraints and their Jacobian (1 <= k <= N, with node constraints).
+  const StatePoint& x(int k) const { return x_[k]; }
+  const NodeConstraintValues& g(int k) const { return g_[k]; }
+  const NodeConstraintJacobian& Jg(int k) const { return Jg_[k]; }
 
  private:
+  // The node constraints and their Jacobian (always both: the tyre and power train alone are cheap).
+  bool UpdateNode(int k) {
+    return !tr_->node_constraints || NodeConstraints(tr_->nodes[k], x_[k], &g_[k], &Jg_[k]);
+  }
+
   const Transcription* tr_;
   std::vector<NodePoint> z_;
   std::vector<NodeOutputs> y_;
   std::vector<NodeJacobian> J_;
+  std::vector<StatePoint> x_;
+  std::vector<NodeConstraintValues> g_;
+  std::vector<NodeConstraintJacobian> Jg_;
   bool have_point_ = false, have_values_ = false, have_jacobians_ = false, ok_ = false;
 };
 
@@ -155,8 +177,9 @@ class LapNlp : public Ipopt::TNLP {
                     IndexStyleEnum& index_style) final {
     n = tr_->NumVars();
     m = tr_->NumRows();
-    nnz_jac_g = tr_->NumIntervals() * (kNumStates + kNumConstraints) * kIntervalVars;
-    nnz_h_lag = tr_->NumIntervals() * kLowerTriangle + 3 * NumRatePairs();
+    nnz_jac_g = tr_->NumIntervals() * (kNumStates + kNumConstraints) * kIntervalVars +
+                tr_->NumNodeRows() * kNumStates;
+    nnz_h_lag = tr_->NumIntervals() * kLowerTriangle + 3 * NumRatePairs() + NumNodeHessian();
     index_style = C_STYLE;
     return true;
   }
@@ -211,6 +234,8 @@ class LapNlp : public Ipopt::TNLP {
         g[tr_->DefectRow(k, i)] = x[tr_->State(k + 1, i)] - x[tr_->State(k, i)] -
                                   tr_->h[k] * cache_.y(k)(kOutDxDs + i);
       for (int j = 0; j < kNumConstraints; ++j) g[tr_->PathRow(k, j)] = cache_.y(k)(kOutG + j);
+      for (int j = 0; j < kNumConstraints && tr_->node_constraints; ++j)
+        g[tr_->NodeRow(k + 1, j)] = cache_.g(k + 1)(j);
     }
     return true;
   }
@@ -232,6 +257,9 @@ class LapNlp : public Ipopt::TNLP {
         for (int a = 0; a < kIntervalVars; ++a)
           values[e++] = MidFactor(a) * J(kOutG + j, MidVar(a));
     }
+    for (int k = 1; k <= tr_->NumIntervals() && tr_->node_constraints; ++k)
+      for (int j = 0; j < kNumConstraints; ++j)
+        for (int i = 0; i < kNumStates; ++i) values[e++] = cache_.Jg(k)(j, i);
     return true;
   }
 
@@ -250,6 +278,7 @@ class LapNlp : public Ipopt::TNLP {
         *rate++ = d;
         *rate++ = -d;
       }
+    Number* node_blocks = rate;
     return ForEachInterval(tr_->NumIntervals(), tr_->threads, [&](int k) {
       NodeHessian H;
       if (!NodeWeightedHessian(tr_->mids[k], cache_.z(k),
@@ -259,7 +288,8 @@ class LapNlp : public Ipopt::TNLP {
       for (int a = 0; a < kIntervalVars; ++a)
         for (int b = 0; b <= a; ++b)
           block[TriangleEntry(a, b)] = MidFactor(a) * MidFactor(b) * H(MidVar(a), MidVar(b));
-      return true;
+      return !tr_->node_constraints ||
+             NodeHessianBlock(k + 1, lambda, node_blocks + k * kStateTriangle);
     });
   }
 
@@ -274,6 +304,19 @@ class LapNlp : public Ipopt::TNLP {
   const std::vector<double>& lambda_final() const { return lambda_final_; }
 
  private:
+  // Node k's block of the Hessian, the lower triangle of d2(sum_j mu_{k,j} g_j)/dx~_k^2.
+  bool NodeHessianBlock(int k, const Number* lambda, Number* block) const {
+    NodeConstraintValues w;
+    for (int j = 0; j < kNumConstraints; ++j) w(j) = lambda[tr_->NodeRow(k, j)];
+    StateHessian H;
+    if (!NodeConstraintsWeightedHessian(tr_->nodes[k], cache_.x(k), w, &H)) return false;
+    for (int a = 0; a < kNumStates; ++a)
+      for (int b = 0; b <= a; ++b) block[TriangleEntry(a, b)] = H(a, b);
+    return true;
+  }
+
+  int NumNodeHessian() const { return tr_->node_constraints ? tr_->NumIntervals() * kStateTriangle : 0; }
+
   int NumRatePairs() const {
     return tr_->rate_weight > 0.0 ? (tr_->NumIntervals() - 1) * kNumControls : 0;
   }
@@ -303,6 +346,12 @@ class LapNlp : public Ipopt::TNLP {
           jCol[e] = tr_->IntervalVar(k, a);
         }
     }
+    for (int k = 1; k <= tr_->NumIntervals() && tr_->node_constraints; ++k)
+      for (int j = 0; j < kNumConstraints; ++j)
+        for (int i = 0; i < kNumStates; ++i, ++e) {
+          iRow[e] = tr_->NodeRow(k, j);
+          jCol[e] = tr_->State(k, i);
+        }
     return true;
   }
 
@@ -325,6 +374,12 @@ class LapNlp : public Ipopt::TNLP {
         jCol[e] = a;
         ++e;
       }
+    for (int k = 1; k <= tr_->NumIntervals() && tr_->node_constraints; ++k)
+      for (int a = 0; a < kNumStates; ++a)
+        for (int b = 0; b <= a; ++b, ++e) {
+          iRow[e] = tr_->State(k, a);
+          jCol[e] = tr_->State(k, b);
+        }
     return true;
   }
 
@@ -341,10 +396,12 @@ Transcription MakeTranscription(const Vehicle& v, const RoadTrack& road,
   tr.sc = DefaultScales(v);
   tr.rate_weight = options.control_rate_weight;
   tr.threads = options.num_threads;
+  tr.node_constraints = options.node_constraints;
   for (int k = 0; k + 1 < tr.NumNodes(); ++k) {
     tr.h.push_back(mesh[k + 1] - mesh[k]);
     tr.mids.push_back({&v, tr.sc, road.At(0.5 * (mesh[k] + mesh[k + 1]))});
   }
+  for (double s_k : mesh) tr.nodes.push_back({&v, tr.sc, road.At(s_k)});
   return tr;
 }
 
@@ -413,7 +470,7 @@ std::vector<StateVector<double>> CostatesFromMultipliers(const Transcription& tr
 }
 
 // Fills the solution and the checks of the answer (state defects, constraint violations at the
-// midpoints) from the cached midpoint values at the final point. The nodes report NodeControls of
+// midpoints and, with node constraints, the nodes) from the cached midpoint values at the final point. The nodes report NodeControls of
 // the intervals' controls (solution.h), as the indirect solver.
 void CheckAnswer(const Transcription& tr, const std::vector<double>& x, const MidCache& cache,
                  LapSolution* sol, SolveSummary* summary) {
@@ -428,8 +485,11 @@ void CheckAnswer(const Transcription& tr, const std::vector<double>& x, const Mi
   for (int k = 0; k + 1 < n; ++k) {
     for (int i = 0; i < kNumControls; ++i)
       sol->u_interval[k][i] = x[tr.Control(k, i)] * tr.sc.control[i];
-    for (int j = 0; j < kNumConstraints; ++j)
+    for (int j = 0; j < kNumConstraints; ++j) {
       summary->max_violation[j] = std::max(summary->max_violation[j], cache.y(k)(kOutG + j));
+      if (tr.node_constraints)
+        summary->max_violation[j] = std::max(summary->max_violation[j], cache.g(k + 1)(j));
+    }
     sol->t[k + 1] = sol->t[k] + tr.h[k] * cache.y(k)(kOutTime);
     for (int i = 0; i < kNumStates; ++i) {
       const double defect =

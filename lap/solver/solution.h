@@ -55,7 +55,10 @@ struct SolveSummary {
   double solve_seconds = 0.0;
   double max_residual = 0.0;                   // scaled, of the final system
   double max_state_defect = 0.0;               // largest scaled state defect of the transcription
-  std::vector<double> max_violation;           // per constraint kind (kConstraintNames), max g_j
+  // Per constraint kind (kConstraintNames), the largest g_j over the points the solver checks: the
+  // interval midpoints, where the transcription evaluates the model, and with the Ipopt oracle's
+  // node constraints (ipopt_direct.h) the nodes too.
+  std::vector<double> max_violation;
   int control_failures = 0;                    // nodes whose H_u = 0 Newton did not converge
 };
 
