@@ -179,7 +179,7 @@ Ribbon FitRibbon(const RoadInput& input, const FitOptions& options, FitSummary* 
   // the next ones on the requested spacing.
   Ribbon ribbon = InitialRibbon(centre, options.ds_m * options.first_pass_coarsening, closed);
   const auto sides = SplitBySide(input);
-  Progress progress("road_fit");
+  Progress progress("ribbon fit");
   *summary = FitSummary();
   std::vector<Station> stations;
   bool all_converged = true;

@@ -12,7 +12,7 @@ run_make() { make --no-print-directory -C "$here/../pipelines" BIN="$build" OUT=
 
 run_make run
 d=$out/snaefell-3000m
-for f in road.h5 reference/lap.h5 reference/plots/summary.md reference/plots/speed.png; do
+for f in road.h5 reference/lap.h5 reference/plots/summary.md reference/plots/speed.png reference/report.md; do
   [ -s "$d/$f" ] || fail "$d/$f missing"
 done
 grep -q "^converged      yes" "$d/reference/lap.txt" || fail "the reference lap did not converge: $(cat "$d/reference/lap.txt")"
