@@ -6,7 +6,7 @@ overrides that the pipeline passes to every later lap.
     calibrate.py ROAD.h5 BIKE.yaml --lap BIN/lap -o calibration.txt
                  [--key motor.current_max_a] [--target 1771] [--start 300 400]
                  [--rel-tol 0.002] [--max-evals 8] [--workdir DIR] [--parallel-start]
-                 [--warm-start] [-- LAP_ARGS...]
+                 [--warm-start] [--keep-lap DIR] [-- LAP_ARGS...]
 
 What and why (docs/pipelines.md, "Calibration"): the paper gives neither the motors' current limit
 nor any other power-train constant; data/bx15.yaml reasons each one. Its lap time is the one figure
@@ -18,16 +18,20 @@ Method: the secant method on f(x) = lap_time(x) - target from the two --start va
 --parallel-start the two start laps solved at once (they are independent; on two cores this saves
 one lap's wall time), and with --warm-start each lap started (--init) from the closest value solved
 so far (it does not pay with Ipopt, docs/pipelines.md); a step is kept inside [x/4, 4x] of the last
-value. Stops when |f| <= rel_tol x target. Every lap is `lap ROAD BIKE --set KEY=x --json
-LAP_ARGS` into WORKDIR; a lap that exits 0 or 4 (converged; exit 4 = the re-simulation check
-failed, docs/lap_h5.md) counts, any other exit ends the calibration with an error.
+value. Stops when |f| <= rel_tol x target. Every value is rounded to the 6 significant digits the
+output file gives it, so a lap with `--set KEY=VALUE` from that file is the calibration's own lap.
+Every lap is `lap ROAD BIKE --set KEY=x LAP_ARGS` into WORKDIR (its summary beside it as .txt, its
+figures read from its attributes); a lap that exits 0 or 4 (converged; exit 4 = the re-simulation
+check failed, docs/lap_h5.md) counts, any other exit ends the calibration with an error.
 
 Output (written atomically): comment lines with the history (value, lap time, energy used, exit),
-then one line `KEY=VALUE`. Exit 0 when the target was met, 3 when --max-evals ran out (the file is
-not written), 1 on bad input or a failed lap.
+then one line `KEY=VALUE`. With --keep-lap DIR the fitted value's lap is also copied to
+DIR/lap.h5 and its summary to DIR/lap.txt (the pipeline's reference lap: the same road, bike, value
+and LAP_ARGS, so it is not solved again). Exit 0 when the target was met, 3 when --max-evals ran
+out (nothing written), 1 on bad input or a failed lap.
 """
-import json
 import os
+import shutil
 import subprocess
 import sys
 
@@ -55,6 +59,8 @@ def _parse():
                    help="solve the two --start values at once (two processes)")
     p.add_argument("--warm-start", action="store_true",
                    help="start each lap from the closest one solved (--init)")
+    p.add_argument("--keep-lap", metavar="DIR",
+                   help="copy the fitted value's lap to DIR/lap.h5 and its summary to DIR/lap.txt")
     argv = sys.argv[1:]
     split = argv.index("--") if "--" in argv else len(argv)
     a = p.parse_args(argv[:split])
@@ -66,13 +72,13 @@ def _parse():
 
 def _solve(a, xs, solved):
     """Runs one lap per value x in xs at once (they are independent); returns for each x
-    (x, lap time [s], energy used [J], exit code, lap.h5)."""
+    (x, lap time [s], energy used [J], exit code, lap.h5); each lap's summary is beside it as .txt."""
     workdir = a.workdir or os.path.dirname(os.path.abspath(a.output))
     os.makedirs(workdir, exist_ok=True)
     runs = []
     for x in xs:
         out = os.path.join(workdir, f"calibration_{a.key}_{x:.6g}.h5")
-        cmd = [a.lap, a.road, a.bike, "-o", out, "--set", f"{a.key}={x:.10g}", "--json", "-q"]
+        cmd = [a.lap, a.road, a.bike, "-o", out, "--set", f"{a.key}={x:.6g}", "-q"]
         if solved and a.warm_start:
             closest = min(solved, key=lambda r: abs(r[0] - x))
             cmd += ["--init", closest[4]]
@@ -84,9 +90,24 @@ def _solve(a, xs, solved):
         stdout, stderr = run.communicate()
         if run.returncode not in (0, 4):
             raise CalibrationError(f"{' '.join(cmd)}: exit {run.returncode}: {stderr.strip()}")
-        figures = json.loads(stdout)
-        results.append((x, figures["lap_time"], figures["energy_used"], run.returncode, out))
+        with open(_summary(out), "w") as handle:
+            handle.write(stdout)
+        lap = ttz_h5.open_lap(out)
+        results.append((x, lap.attr("lap_time"), lap.attr("energy_used"), run.returncode, out))
     return results
+
+
+def _summary(lap_h5):
+    """The file of a calibration lap's printed summary."""
+    return os.path.splitext(lap_h5)[0] + ".txt"
+
+
+def _keep(lap_h5, folder):
+    """Copies a lap and its summary to folder/lap.h5 and folder/lap.txt, each atomically."""
+    os.makedirs(folder, exist_ok=True)
+    for source, name in ((_summary(lap_h5), "lap.txt"), (lap_h5, "lap.h5")):
+        ttz_h5.write_atomically(os.path.join(folder, name),
+                                lambda temp, source=source: shutil.copyfile(source, temp))
 
 
 def _next(history, a):
@@ -113,7 +134,7 @@ def _write(a, history):
 def main():
     a = _parse()
     history = []
-    xs = a.start if a.parallel_start else a.start[:1]
+    xs = [float(f"{x:.6g}") for x in (a.start if a.parallel_start else a.start[:1])]
     while len(history) < a.max_evals:
         for x, t, e, code, out in _solve(a, xs, history):
             history.append((x, t, e, code, out))
@@ -123,9 +144,11 @@ def main():
         if abs(best[1] - a.target) <= a.rel_tol * a.target:
             history.remove(best)
             history.append(best)
+            if a.keep_lap:
+                _keep(best[4], a.keep_lap)
             _write(a, history)
             return 0
-        xs = [a.start[1] if len(history) == 1 else _next(history, a)]
+        xs = [float(f"{a.start[1] if len(history) == 1 else _next(history, a):.6g}")]
     print(f"error: {a.key}: lap time still {history[-1][1]:.3f} s after {a.max_evals} laps "
           f"(target {a.target:g} s); {a.output} not written", file=sys.stderr)
     return 3
@@ -134,5 +157,5 @@ def main():
 if __name__ == "__main__":
     try:
         sys.exit(main())
-    except CalibrationError as err:
+    except (CalibrationError, ttz_h5.InputError) as err:
         sys.exit(f"error: {err}")

@@ -17,6 +17,15 @@ for f in road.h5 reference/lap.h5 reference/plots/summary.md reference/plots/spe
 done
 grep -q "^converged      yes" "$d/reference/lap.txt" || fail "the reference lap did not converge: $(cat "$d/reference/lap.txt")"
 
+# Dry runs (nothing solved): on the whole course the calibration's lap at the fitted value is the
+# reference lap unless the calibration solves with other flags; motors/2_4 is the reference lap.
+plan=$(run_make -n run PIECE_M=)
+echo "$plan" | grep -q -- "--keep-lap $out/snaefell/reference --" || fail "make run does not keep the calibration's lap"
+! echo "$plan" | grep -q "reference/lap-attempt.h5" || fail "make run solves the reference lap again"
+plan=$(run_make -n run PIECE_M= CAL_FLAGS="--solver ipopt --ds 20")
+echo "$plan" | grep -q "reference/lap-attempt.h5" || fail "with other CAL_FLAGS the reference lap is not solved"
+run_make -n motors | grep -q "^cp $d/reference/lap.h5 $d/studies/motors/2_4/lap.h5.tmp" || fail "motors/2_4 is not the reference lap"
+
 run_make gear GEARS="3.0 3.4" WARM_START=yes -j1
 for g in 3.0 3.4; do [ -s "$d/studies/gear/$g/lap.h5" ] || fail "gear $g: no lap.h5"; done
 /usr/bin/python3 - "$d/studies/gear" <<'PY'

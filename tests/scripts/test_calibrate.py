@@ -5,18 +5,24 @@ import os
 import stat
 import unittest
 
+import h5py
+
 import ttz_fixtures as fx
 
 # A stand-in for the lap executable: lap time 1000 + 3e5 / x [s] at --set KEY=x, so 1771 s at
-# x = 3e5 / 771 = 389.1; it records its arguments, writes an empty -o file and exits with $FAKE_EXIT.
+# x = 3e5 / 771 = 389.1; it records its arguments, writes a lap.h5 with those figures as attributes
+# (docs/lap_h5.md), prints a one-line summary and exits with $FAKE_EXIT.
 FAKE_LAP = """#!/usr/bin/python3
-import json, os, sys
+import os, sys
+import h5py
 args = sys.argv[1:]
 x = float(next(a for a in args if "=" in a).split("=")[1])
-open(args[args.index("-o") + 1], "w").close()
+with h5py.File(args[args.index("-o") + 1], "w") as h5:
+    h5.attrs.update({"schema": "ttz.lap", "schema_version": 2, "lap_time": 1000 + 3e5 / x,
+                     "energy_used": 1e5 * x})
 with open(os.environ["FAKE_LOG"], "a") as log:
     log.write(" ".join(args) + "\\n")
-print(json.dumps({"lap_time": 1000 + 3e5 / x, "energy_used": 1e5 * x}))
+print(f"lap at x = {x}")
 sys.exit(int(os.environ.get("FAKE_EXIT", "0")))
 """
 
@@ -50,6 +56,25 @@ class CalibrateTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
         self.assertEqual(len([line for line in lines if line.startswith("# ") and "exit" not in line]) - 1, len(laps))
         self.assertNotIn("--init", laps[0])
         self.assertTrue(all("--init" in lap and lap.endswith("--solver ipopt") for lap in laps[1:]), laps)
+
+    def test_every_value_is_solved_as_written_and_keep_lap_copies_the_fitted_lap(self):
+        keep = self.path("reference")
+        self.assert_ok(self.calibrate("--start", "300.0001234", "400", "--keep-lap", keep))
+        value = read_lines(self.out)[-1].split("=")[1]
+        laps = read_lines(self.log)
+        self.assertIn(f"motor.current_max_a={value}", laps[-1])
+        self.assertTrue(laps[0].startswith("road.h5 bike.yaml -o ") and "=300 " in laps[0], laps[0])
+        self.assertEqual(read_lines(os.path.join(keep, "lap.txt")), [f"lap at x = {float(value)}"])
+        with h5py.File(os.path.join(keep, "lap.h5"), "r") as h5:
+            self.assertAlmostEqual(h5.attrs["lap_time"], 1000 + 3e5 / float(value), places=9)
+        self.assert_no_temporaries(keep)
+
+    def test_a_lap_file_of_another_kind_ends_the_calibration(self):
+        with open(self.lap) as handle:
+            text = handle.read().replace('"schema": "ttz.lap"', '"schema": "ttz.road"')
+        with open(self.lap, "w") as handle:
+            handle.write(text)
+        self.assert_refused(self.calibrate(), "schema 'ttz.road'", absent=[self.out])
 
     def test_a_lap_that_exits_4_counts_and_laps_start_cold_by_default(self):
         self.assert_ok(self.calibrate(exit_code=4))
