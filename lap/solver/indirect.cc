@@ -372,8 +372,9 @@ Continuation RunContinuation(const IndirectOptions& options, Transcription* tr,
 }
 
 // States, costates and time at the nodes. The transcription's controls live on the intervals
-// (one per midpoint); the nodes report NodeControls of them (solution.h). Every constraint is checked where the transcription evaluates it, at the
-// midpoints.
+// (one per midpoint); the nodes report NodeControls of them (solution.h). Every constraint is
+// checked where the transcription has its barrier: at the midpoints, and with node barriers at
+// the nodes 1..N.
 LapSolution NodeSolution(const Vehicle& v, const Transcription& tr, SolveSummary* summary) {
   const int n = tr.NumNodes();
   LapSolution sol;
@@ -400,6 +401,11 @@ LapSolution NodeSolution(const Vehicle& v, const Transcription& tr, SolveSummary
     sol.u_interval[k] = um;
     const RoadPoint& rp = tr.road[k];
     const ConstraintVector<double> g = EvaluateConstraints(v, xm, um, rp, EvaluateModel(v, xm, um, rp));
+    for (int j = 0; j < kNumConstraints; ++j)
+      summary->max_violation[j] = std::max(summary->max_violation[j], g[j]);
+  }
+  for (int k = 1; k < n && tr.node_barriers; ++k) {
+    const ConstraintVector<double> g = StateConstraints(v, sol.x[k], tr.road_nodes[k]);
     for (int j = 0; j < kNumConstraints; ++j)
       summary->max_violation[j] = std::max(summary->max_violation[j], g[j]);
   }
@@ -440,7 +446,8 @@ LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
                           const IndirectOptions& options, SolveSummary* summary) {
   const auto start = std::chrono::steady_clock::now();
   Transcription tr =
-      MakeTranscription(v, road, mesh, x_guess, lambda_guess, u_guess, options.num_threads);
+      MakeTranscription(v, road, mesh, x_guess, lambda_guess, u_guess, options.num_threads,
+                        options.node_constraints);
   ceres::Problem::Options popts;
   MidpointCallback callback(&tr);
   popts.evaluation_callback = &callback;
@@ -449,6 +456,17 @@ LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
 
   summary->steps.clear();
   summary->iterations = 0;
+  if (tr.node_barriers && lambda_guess.empty()) {
+    // The quasi-steady guess sits on its limits, where a node barrier's gradient is 2 / delta: as
+    // a jump of the costates between two midpoints it would drive the first solve's controls
+    // far off (the midpoints see it spread over an interval). So the first solve is of the
+    // midpoints' barriers alone; the continuation proper starts from its answer.
+    IndirectOptions midpoints = options;
+    midpoints.eps_end = options.eps_start;
+    tr.node_barriers = false;
+    RunContinuation(midpoints, &tr, &problem, summary);
+    tr.node_barriers = true;
+  }
   const Continuation c = RunContinuation(options, &tr, &problem, summary);
   if (!c.good.empty()) tr.weight = WeightFor(c.good.back().eps);
   LapSolution sol = NodeSolution(v, tr, summary);

@@ -32,6 +32,10 @@ struct IndirectOptions {
   // into its iteration limit (docs/lap.md).
   double path_tolerance = 1e-7;
   double constraint_tolerance = 1e-4;  // largest allowed g_j > 0 (relative) in the answer
+  // Barriers (and the check) of every constraint at the nodes 1..N as well as at the midpoints
+  // (lap/solver/node_barrier.h): with the midpoints alone a state at its limit at two midpoints
+  // may overshoot it at the node between them. Off only to compare with an earlier answer.
+  bool node_constraints = true;
   // After the first step, follow the solution curve in (unknowns, log eps) by pseudo-arclength
   // steps (tangent predictor, Newton corrector on the bordered system by sparse LU) instead of
   // shrinking eps with Levenberg-Marquardt. On the first 5 km of the TT course (10 m mesh,

@@ -51,8 +51,7 @@ struct IpoptOptions {
   // a state constrained there (the roll rate, say) may overshoot its limit at a node between two
   // midpoints where it is active, and lap.h5, which reports the nodes, shows the overshoot: on the
   // TT course at 180 A per motor, roll rate 34 % and adherence 20 % over (docs/lap.md,
-  // "Constraints at the nodes"). Off only to compare with the indirect solver, which checks the
-  // midpoints alone (oracle_test).
+  // "Constraints at the nodes"). Off only to measure what the nodes change (ipopt_direct_test).
   bool node_constraints = true;
   // Threads for the midpoint evaluations (80 % of the time with one thread; Ipopt's own linear
   // algebra, MUMPS, is sequential).

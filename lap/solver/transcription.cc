@@ -6,23 +6,50 @@
 
 namespace ttz::lap {
 
-void Transcription::EvaluateMids(bool jacobians) {
+namespace {
+
+// f(i) for i in [0, n) on `threads` threads.
+template <typename F>
+void ParallelFor(int n, int threads, F f) {
   auto work = [&](int first, int last) {
-    for (int k = first; k < last; ++k) {
-      StateVector<double> xs, ls;
-      for (int i = 0; i < kNumStates; ++i) {
-        xs[i] = 0.5 * (W(k)[i] + W(k + 1)[i]);
-        ls[i] = 0.5 * (W(k)[kNumStates + i] + W(k + 1)[kNumStates + i]);
-      }
-      EvaluateNode(*v, sc, road[k], weight, xs, ls, jacobians, &mids[k]);
-    }
+    for (int i = first; i < last; ++i) f(i);
   };
-  const int n = NumNodes() - 1, parts = std::max(1, threads);
+  const int parts = std::max(1, threads);
   std::vector<std::thread> pool;
   for (int p = 1; p < parts; ++p) pool.emplace_back(work, n * p / parts, n * (p + 1) / parts);
   work(0, n / parts);
   for (auto& t : pool) t.join();
-  all_valid = std::all_of(mids.begin(), mids.end(), [](const NodeData& d) { return d.valid; });
+}
+
+}  // namespace
+
+double Transcription::NodeLength(int k) const {
+  return 0.5 * ((k > 0 ? H(k - 1) : 0.0) + (k + 1 < NumNodes() ? H(k) : 0.0));
+}
+
+void Transcription::EvaluateMids(bool jacobians) {
+  const int n = NumNodes() - 1;
+  const BarrierWeight split = SplitWeight();
+  if (node_barriers)
+    ParallelFor(n, threads, [&](int k) {
+      StateVector<double> xs;
+      std::copy(W(k + 1), W(k + 1) + kNumStates, xs.begin());
+      EvaluateNodeBarrier(*v, sc, road_nodes[k + 1], split, NodeLength(k + 1), xs, jacobians,
+                          &nodes[k + 1]);
+    });
+  ParallelFor(n, threads, [&](int k) {
+    StateVector<double> xs, mu;
+    for (int i = 0; i < kNumStates; ++i) {
+      xs[i] = 0.5 * (W(k)[i] + W(k + 1)[i]);
+      mu[i] = 0.5 * (W(k)[kNumStates + i] + W(k + 1)[kNumStates + i]);
+      if (node_barriers)
+        mu[i] += 0.5 * (RightShare(k) * nodes[k + 1].grad(i) - LeftShare(k) * nodes[k].grad(i));
+    }
+    EvaluateNode(*v, sc, road[k], split, xs, mu, jacobians, &mids[k]);
+  });
+  all_valid = std::all_of(mids.begin(), mids.end(), [](const NodeData& d) { return d.valid; }) &&
+              (!node_barriers || std::all_of(nodes.begin() + 1, nodes.end(),
+                                             [](const NodeBarrierData& d) { return d.valid; }));
 }
 
 double Transcription::LapTime() const {
@@ -35,8 +62,10 @@ Transcription MakeTranscription(const Vehicle& v, const RoadTrack& road,
                                 const std::vector<double>& mesh,
                                 const std::vector<StateVector<double>>& x_guess,
                                 const std::vector<StateVector<double>>& lambda_guess,
-                                const std::vector<ControlVector<double>>& u_guess, int threads) {
+                                const std::vector<ControlVector<double>>& u_guess, int threads,
+                                bool node_barriers) {
   Transcription tr;
+  tr.node_barriers = node_barriers;
   tr.v = &v;
   tr.sc = DefaultScales(v);
   tr.s = mesh;
@@ -44,6 +73,11 @@ Transcription MakeTranscription(const Vehicle& v, const RoadTrack& road,
   const int n = tr.NumNodes();
   tr.road.resize(n - 1);
   tr.mids.resize(n - 1);
+  tr.nodes.resize(n);
+  tr.nodes[0].valid = true;
+  tr.nodes[0].grad.setZero();
+  tr.nodes[0].hess.setZero();
+  for (int k = 0; k < n; ++k) tr.road_nodes.push_back(road.At(mesh[k]));
   tr.w.assign(static_cast<size_t>(n) * kW, 0.0);
   for (int k = 0; k < n; ++k)
     for (int i = 0; i < kNumStates; ++i) {
@@ -62,12 +96,21 @@ bool IntervalResidual::Evaluate(const double* const* p, double* r, double** J) c
   const NodeData& d = tr_->mids[k_];
   if (!d.valid) return false;
   const double h = tr_->H(k_);
+  // The barriers of the interval's two nodes and the interval's shares in them.
+  const double share[2] = {tr_->LeftShare(k_), tr_->RightShare(k_)};
+  const NodeBarrierData* node[2] = {share[0] > 0.0 ? &tr_->nodes[k_] : nullptr,
+                                    share[1] > 0.0 ? &tr_->nodes[k_ + 1] : nullptr};
+  for (const NodeBarrierData* b : node)
+    if (b != nullptr && !b->valid) return false;
   for (int i = 0; i < kNumStates; ++i) {
     r[i] = p[1][i] - p[0][i] - h * d.F(i);
     r[kNumStates + i] = p[1][kNumStates + i] - p[0][kNumStates + i] + h * d.G(i);
+    for (int side = 0; side < 2; ++side)
+      if (node[side] != nullptr) r[kNumStates + i] += share[side] * node[side]->grad(i);
   }
   if (J == nullptr) return true;
-  // Both nodes enter the midpoint with weight 1/2.
+  // Both nodes enter the midpoint with weight 1/2; a node's barrier also shifts the midpoint's
+  // costate mu~ by -/+ share/2 dB/dx~ (transcription.h).
   for (int side = 0; side < 2; ++side) {
     if (J[side] == nullptr) continue;
     const double sign = side == 0 ? -1.0 : 1.0;
@@ -77,6 +120,12 @@ bool IntervalResidual::Evaluate(const double* const* p, double* r, double** J) c
     M.bottomLeftCorner<kNumStates, kNumStates>() = 0.5 * h * d.dG_dx;
     M.bottomRightCorner<kNumStates, kNumStates>() = 0.5 * h * d.dG_dl;
     M.diagonal().array() += sign;
+    if (node[side] != nullptr) {
+      const NodeMatrix dmu_dx = (0.5 * sign * share[side]) * node[side]->hess;
+      M.topLeftCorner<kNumStates, kNumStates>() -= h * d.dF_dl * dmu_dx;
+      M.bottomLeftCorner<kNumStates, kNumStates>() +=
+          h * d.dG_dl * dmu_dx + share[side] * node[side]->hess;
+    }
   }
   return true;
 }

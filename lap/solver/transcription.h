@@ -4,6 +4,16 @@
 // midpoints (one control per interval, eliminated there: lap/solver/node.h), and each interval
 // contributes one residual block of state and costate defects.
 //
+// With node barriers (node_barrier.h) the costate jumps by -dB_k/dx~_k at node k. The unknown
+// lambda~_k is the mean of its left and right limits, lambda~_k -/+ c dB_k/dx~_k with c = 1/2;
+// node 0, whose state is fixed, has no barrier, and lambda~_N = 0 is the right limit after the
+// last node, so its left limit carries all of dB_N/dx~_N. With a_k = 0 (k = 0) or 1/2 and
+// b_k = 1 (k + 1 = N) or 1/2 the interval's costate at its midpoint is
+//   mu~_k = (lambda~_k + lambda~_{k+1}) / 2 + (b_k dB_{k+1}/dx~ - a_k dB_k/dx~) / 2
+// (the mean of lambda~_k's right limit and lambda~_{k+1}'s left limit), and the costate defect
+// gains a_k dB_k/dx~ + b_k dB_{k+1}/dx~. This is the exact adjoint of the midpoint rule with
+// sum_k B_k added to the objective.
+//
 // The trapezoidal rule with controls at the nodes sees only the mean of two neighbouring controls,
 // so an alternating (odd-even) pattern of controls changes no defect: on the fast wheel-spin and
 // roll modes that null direction left Newton stalled (docs/lap.md). The midpoint rule has no such
@@ -17,6 +27,7 @@
 
 #include "lap/road_track.h"
 #include "lap/solver/node.h"
+#include "lap/solver/node_barrier.h"
 
 namespace ttz::lap {
 
@@ -32,6 +43,9 @@ struct Transcription {
   std::vector<RoadPoint> road;   // at the interval midpoints
   std::vector<double> w;         // (N + 1) x kW: [x~_k, lambda~_k]
   std::vector<NodeData> mids;    // the N interval midpoints
+  bool node_barriers = true;     // barriers at the nodes 1..N too (node_barrier.h)
+  std::vector<RoadPoint> road_nodes;      // at the nodes
+  std::vector<NodeBarrierData> nodes;     // the N + 1 nodes (node 0's stays zero)
   BarrierWeight weight{};        // set by the continuation before each solve
   int threads = 1;               // for EvaluateMids
   bool all_valid = false;        // every midpoint valid after the last EvaluateMids
@@ -40,8 +54,22 @@ struct Transcription {
   double* W(int k) { return w.data() + k * kW; }
   const double* W(int k) const { return w.data() + k * kW; }
   double H(int k) const { return s[k + 1] - s[k]; }
+  // The weight of the midpoints' barriers, and of the nodes': with node barriers each takes
+  // half of eps, so that switching them on leaves the barrier's total about the same (the
+  // midpoint and the trapezoidal rule of the same integral, averaged).
+  BarrierWeight SplitWeight() const {
+    return node_barriers ? BarrierWeight{0.5 * weight.eps, weight.delta} : weight;
+  }
+  // Shares a_k and b_k of interval k in the barriers of its left and right nodes (above).
+  // l_k [m]: the length of road node k stands for (half of each neighbouring interval).
+  double NodeLength(int k) const;
+  double LeftShare(int k) const { return k == 0 || !node_barriers ? 0.0 : 0.5; }
+  double RightShare(int k) const {
+    return !node_barriers ? 0.0 : k + 2 == NumNodes() ? 1.0 : 0.5;
+  }
 
-  // Evaluates every midpoint at (w_k + w_{k+1}) / 2: u*, F, G, and their derivatives if asked.
+  // Evaluates the node barriers, then every midpoint at ((x~_k + x~_{k+1}) / 2, mu~_k): u*, F, G,
+  // and their derivatives if asked.
   void EvaluateMids(bool jacobians);
   // sum_k h_k / sdot_{k+1/2} [s], from the last EvaluateMids.
   double LapTime() const;
@@ -57,9 +85,11 @@ Transcription MakeTranscription(const Vehicle& v, const RoadTrack& road,
                                 const std::vector<double>& mesh,
                                 const std::vector<StateVector<double>>& x_guess,
                                 const std::vector<StateVector<double>>& lambda_guess,
-                                const std::vector<ControlVector<double>>& u_guess, int threads);
+                                const std::vector<ControlVector<double>>& u_guess, int threads,
+                                bool node_barriers = true);
 
-// Interval [k, k+1]:  x~_{k+1} - x~_k - h F_{k+1/2} = 0,  lambda~_{k+1} - lambda~_k + h G_{k+1/2} = 0.
+// Interval [k, k+1]:  x~_{k+1} - x~_k - h F_{k+1/2} = 0,
+//                    lambda~_{k+1} - lambda~_k + h G_{k+1/2} + a_k dB_k/dx~ + b_k dB_{k+1}/dx~ = 0.
 // It reads the midpoint data of the last EvaluateMids (MidpointCallback keeps them current).
 class IntervalResidual : public ceres::SizedCostFunction<kW, kW, kW> {
  public:

@@ -1,6 +1,7 @@
 // The interval residual blocks of the midpoint transcription: their Jacobians (assembled from each
 // midpoint's total derivatives through u*) against central differences of the residuals, with the
-// midpoints re-evaluated at every perturbed point, on a road with a bend and a slope.
+// midpoints and node barriers re-evaluated at every perturbed point, on a road with a bend and a
+// slope.
 #include "lap/solver/transcription.h"
 
 #include <gtest/gtest.h>
@@ -34,7 +35,7 @@ TEST(TranscriptionTest, IntervalJacobiansMatchCentralDifferences) {
     for (int i = 0; i < kNumStates; ++i) lambda[k][i] = 0.01 * std::sin(1.0 + k + 3.0 * i);
   Transcription tr = MakeTranscription(v, road, mesh, qss.x, lambda, qss.u, 1);
   tr.weight = {0.1, 1e-3};
-  for (int k : {0, 12, 28}) {
+  for (int k : {0, 12, 28, 29}) {  // 29: the last interval, with all of node N's barrier
     tr.EvaluateMids(true);
     ASSERT_TRUE(tr.all_valid);
     std::array<double, 2 * kW * kW> jac{};
