@@ -59,6 +59,39 @@ ConstraintVector<T> ConstraintsFrom(const Vehicle& v, const StateVector<T>& x, c
   return g;
 }
 
+// Whether constraint j depends on state i: the states ConstraintsFrom reads itself and through
+// the tyre and the power train as StateConstraints computes them (below). It is the sparsity of
+// the constraints' Jacobians, which the Ipopt oracle passes on (lap/solver/ipopt_direct.cc);
+// model_test checks it against automatic differentiation.
+constexpr bool ConstraintUsesState(int j, int i) {
+  switch (j) {
+    case kBorderRight:
+    case kBorderLeft:
+      return i == kN;
+    case kRollRateMax:
+    case kRollRateMin:
+      return i == kOmegaPhi;
+    case kYawRateMax:
+    case kYawRateMin:
+      return i == kOmegaZ;
+    case kAdherence:  // ComputeTyre's arguments
+      return i == kV || i == kBeta || i == kZ || i == kPhi || i == kOmegaW || i == kZdot;
+    case kCharge:
+      return i == kE;
+    case kBrakeTorque:
+      return i == kTauW;
+    default:  // current, power, voltages: ComputePowertrain's arguments
+      return i == kTauW || i == kOmegaW || i == kV || i == kT || i == kE;
+  }
+}
+
+// The number of states constraint j depends on.
+constexpr int ConstraintStateCount(int j) {
+  int n = 0;
+  for (int i = 0; i < kNumStates; ++i) n += ConstraintUsesState(j, i) ? 1 : 0;
+  return n;
+}
+
 // The constraints at a point of the model already evaluated (m = EvaluateModel(v, x, u, road)).
 template <typename T>
 ConstraintVector<T> EvaluateConstraints(const Vehicle& v, const StateVector<T>& x,

@@ -132,6 +132,36 @@ TEST(ModelTest, SecondDerivativesOfNestedJetsMatchDifferencesOfFirst) {
   }
 }
 
+// ConstraintUsesState is the structure of the constraints' Jacobian that the Ipopt oracle gives
+// Ipopt: every derivative outside it must be exactly zero, at the model's evaluation (with the
+// controls) as at the state alone, braking and driving, and not all inside it may vanish.
+TEST(ModelTest, ConstraintsDependOnTheDeclaredStatesOnly) {
+  using J = ceres::Jet<double, kNumStates + kNumControls>;
+  const Vehicle v = Bx15();
+  for (double tau_w : {300.0, -400.0}) {
+    StateVector<double> x0 = SomeState(v, 40.0);
+    x0[kTauW] = tau_w;
+    StateVector<J> x;
+    ControlVector<J> u;
+    for (int i = 0; i < kNumStates; ++i) x[i] = J(x0[i], i);
+    for (int i = 0; i < kNumControls; ++i) u[i] = J(0.5 + i, kNumStates + i);
+    const ConstraintVector<J> g = EvaluateConstraints(v, x, u, Curvy(), EvaluateModel(v, x, u, Curvy()));
+    const ConstraintVector<J> gs = StateConstraints(v, x, Curvy());
+    for (int j = 0; j < kNumConstraints; ++j) {
+      int used = 0;
+      for (int i = 0; i < kNumStates + kNumControls; ++i) {
+        const bool declared = i < kNumStates && ConstraintUsesState(j, i);
+        if (!declared) {
+          EXPECT_EQ(g[j].v[i], 0.0) << kConstraintNames[j] << " on variable " << i;
+          EXPECT_EQ(gs[j].v[i], 0.0) << kConstraintNames[j] << " on variable " << i;
+        }
+        used += declared && g[j].v[i] != 0.0 ? 1 : 0;
+      }
+      EXPECT_GT(used, 0) << kConstraintNames[j];
+    }
+  }
+}
+
 TEST(ModelTest, StraightLevelCoastingDeceleratesByDragAndRolling) {
   const Vehicle v = Bx15();
   const RoadPoint road{};  // straight, level

@@ -37,6 +37,17 @@ constexpr int MidVar(int a) {
   return a < kNodeVars ? a : a - kNodeVars;
 }
 constexpr double MidFactor(int a) { return a < kNumStates || a >= kNodeVars ? 0.5 : 1.0; }
+// Whether constraint j at a midpoint depends on interval unknown a (constraints.h: the states
+// alone, and not all of them): the Jacobian's structure leaves the others out.
+constexpr bool MidConstraintUses(int j, int a) {
+  return MidVar(a) < kNumStates && ConstraintUsesState(j, MidVar(a));
+}
+// Structural non-zeros of all constraints at one point (a node; a midpoint has twice as many).
+constexpr int ConstraintEntries() {
+  int n = 0;
+  for (int j = 0; j < kNumConstraints; ++j) n += ConstraintStateCount(j);
+  return n;
+}
 
 // Runs ok(k) for every interval k in [0, n), the intervals split in `threads` contiguous parts;
 // true if every call returned true.
@@ -177,8 +188,8 @@ class LapNlp : public Ipopt::TNLP {
                     IndexStyleEnum& index_style) final {
     n = tr_->NumVars();
     m = tr_->NumRows();
-    nnz_jac_g = tr_->NumIntervals() * (kNumStates + kNumConstraints) * kIntervalVars +
-                tr_->NumNodeRows() * kNumStates;
+    nnz_jac_g = tr_->NumIntervals() * (kNumStates * kIntervalVars + 2 * ConstraintEntries()) +
+                (tr_->node_constraints ? tr_->NumIntervals() * ConstraintEntries() : 0);
     nnz_h_lag = tr_->NumIntervals() * kLowerTriangle + 3 * NumRatePairs() + NumNodeHessian();
     index_style = C_STYLE;
     return true;
@@ -240,7 +251,8 @@ class LapNlp : public Ipopt::TNLP {
     return true;
   }
 
-  // Dense blocks: each defect row and each constraint row of interval k over its 24 unknowns.
+  // Each defect row of interval k over its 28 unknowns, each constraint row over the states it
+  // depends on (ConstraintUsesState) at the interval's two nodes, or at its node.
   bool eval_jac_g(Index, const Number* x, bool new_x, Index, Index, Index* iRow, Index* jCol,
                   Number* values) final {
     if (values == nullptr) return JacobianStructure(iRow, jCol);
@@ -255,11 +267,12 @@ class LapNlp : public Ipopt::TNLP {
         }
       for (int j = 0; j < kNumConstraints; ++j)
         for (int a = 0; a < kIntervalVars; ++a)
-          values[e++] = MidFactor(a) * J(kOutG + j, MidVar(a));
+          if (MidConstraintUses(j, a)) values[e++] = MidFactor(a) * J(kOutG + j, MidVar(a));
     }
     for (int k = 1; k <= tr_->NumIntervals() && tr_->node_constraints; ++k)
       for (int j = 0; j < kNumConstraints; ++j)
-        for (int i = 0; i < kNumStates; ++i) values[e++] = cache_.Jg(k)(j, i);
+        for (int i = 0; i < kNumStates; ++i)
+          if (ConstraintUsesState(j, i)) values[e++] = cache_.Jg(k)(j, i);
     return true;
   }
 
@@ -341,17 +354,19 @@ class LapNlp : public Ipopt::TNLP {
           jCol[e] = tr_->IntervalVar(k, a);
         }
       for (int j = 0; j < kNumConstraints; ++j)
-        for (int a = 0; a < kIntervalVars; ++a, ++e) {
-          iRow[e] = tr_->PathRow(k, j);
-          jCol[e] = tr_->IntervalVar(k, a);
-        }
+        for (int a = 0; a < kIntervalVars; ++a)
+          if (MidConstraintUses(j, a)) {
+            iRow[e] = tr_->PathRow(k, j);
+            jCol[e++] = tr_->IntervalVar(k, a);
+          }
     }
     for (int k = 1; k <= tr_->NumIntervals() && tr_->node_constraints; ++k)
       for (int j = 0; j < kNumConstraints; ++j)
-        for (int i = 0; i < kNumStates; ++i, ++e) {
-          iRow[e] = tr_->NodeRow(k, j);
-          jCol[e] = tr_->State(k, i);
-        }
+        for (int i = 0; i < kNumStates; ++i)
+          if (ConstraintUsesState(j, i)) {
+            iRow[e] = tr_->NodeRow(k, j);
+            jCol[e++] = tr_->State(k, i);
+          }
     return true;
   }
 
