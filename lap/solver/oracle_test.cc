@@ -2,7 +2,8 @@
 // and the same mesh the two lap times agree within 0.05 %, at the indirect solver's final barrier
 // weight and, tighter, after its extrapolation to eps = 0. Each indirect answer also passes the
 // honesty checks at eps = 1e-4 and every constraint holds, at the midpoints and at the nodes (both
-// solvers constrain both: node_barrier.h, IpoptOptions::node_constraints).
+// solvers constrain both: node_barrier.h, IpoptOptions::node_constraints). Saved reference
+// solutions guard each road's lap time and both solvers' iteration counts.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -25,6 +26,11 @@ struct OracleCase {
   const char* name;
   RoadArtefact road;
   double extrapolated_tolerance;  // on |extrapolated / Ipopt - 1|
+  // A saved reference solution (measured in session 7, both solvers with the nodes
+  // constrained): Ipopt's lap time, and iteration counts that either solver exceeding by more
+  // than a quarter is a regression.
+  double reference_lap_s;
+  int ipopt_iterations, indirect_iterations;
 };
 
 // Solves `road` on a 2 m mesh with both solvers and compares their lap times; returns the indirect
@@ -42,7 +48,8 @@ LapSolution ExpectAgreement(const OracleCase& c) {
   std::cout << c.name << ": indirect " << sol.lap_time << " s at eps " << sol.eps
             << ", extrapolated " << sol.lap_time_extrapolated << " s, "
             << indirect_summary.iterations << " iterations, " << indirect_summary.solve_seconds
-            << " s; Ipopt " << oracle.lap_time << " s; QSS " << qss.lap_time << " s\n";
+            << " s; Ipopt " << oracle.lap_time << " s, " << oracle_summary.iterations
+            << " iterations; QSS " << qss.lap_time << " s\n";
   EXPECT_TRUE(indirect_summary.converged) << indirect_summary.message;
   EXPECT_TRUE(oracle_summary.converged) << oracle_summary.message;
   EXPECT_LE(indirect_summary.max_residual, 1e-8);
@@ -53,6 +60,9 @@ LapSolution ExpectAgreement(const OracleCase& c) {
   EXPECT_NEAR(sol.lap_time / oracle.lap_time, 1.0, 5e-4);  // issue 3: within 0.05 %
   EXPECT_NEAR(sol.lap_time_extrapolated / oracle.lap_time, 1.0, c.extrapolated_tolerance);
   EXPECT_LT(sol.lap_time, qss.lap_time);
+  EXPECT_NEAR(oracle.lap_time, c.reference_lap_s, 1e-4 * c.reference_lap_s);
+  EXPECT_LE(oracle_summary.iterations, 1.25 * c.ipopt_iterations);
+  EXPECT_LE(indirect_summary.iterations, 1.25 * c.indirect_iterations);
   return sol;
 }
 
@@ -70,7 +80,7 @@ TEST(OracleTest, BendLeaningIntoIt) {
                                        50.0;
                               },
                               testing::Zero),
-       5e-5});
+       5e-5, 14.3317, 47, 361});
   // The bike leans into the left bend (phi < 0 in the model's frame, y right).
   const size_t apex = sol.x.size() * 160 / 300;
   ASSERT_LT(apex, sol.x.size());
@@ -83,7 +93,7 @@ TEST(OracleTest, SBendsOverACrestAndADip) {
                    testing::SyntheticRoad(
                        400.0, 8.0, [](double s) { return 0.02 * std::sin(2 * kPi * s / 200); },
                        [](double s) { return 0.04 * std::sin(2 * kPi * s / 300); }),
-                   1e-4});
+                   1e-4, 19.4312, 23, 352});
 }
 
 TEST(OracleTest, HairpinOnADescent) {
@@ -94,7 +104,7 @@ TEST(OracleTest, HairpinOnADescent) {
            200.0, 8.0,
            [](double s) { return std::clamp(std::min(s - 60.0, 130.0 - s) / 10.0, 0.0, 1.0) / 15.0; },
            [](double) { return std::atan(-0.06); }),
-       1e-4});
+       1e-4, 13.1716, 33, 342});
 }
 
 }  // namespace
