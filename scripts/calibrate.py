@@ -97,6 +97,12 @@ def _solve(a, xs, solved):
     return results
 
 
+def _as_written(x):
+    """x rounded to the 6 significant digits with which the output file and each lap's --set
+    give it."""
+    return float(f"{x:.6g}")
+
+
 def _summary(lap_h5):
     """The file of a calibration lap's printed summary."""
     return os.path.splitext(lap_h5)[0] + ".txt"
@@ -134,7 +140,7 @@ def _write(a, history):
 def main():
     a = _parse()
     history = []
-    xs = [float(f"{x:.6g}") for x in (a.start if a.parallel_start else a.start[:1])]
+    xs = [_as_written(x) for x in (a.start if a.parallel_start else a.start[:1])]
     while len(history) < a.max_evals:
         for x, t, e, code, out in _solve(a, xs, history):
             history.append((x, t, e, code, out))
@@ -148,7 +154,7 @@ def main():
                 _keep(best[4], a.keep_lap)
             _write(a, history)
             return 0
-        xs = [float(f"{a.start[1] if len(history) == 1 else _next(history, a):.6g}")]
+        xs = [_as_written(a.start[1] if len(history) == 1 else _next(history, a))]
     print(f"error: {a.key}: lap time still {history[-1][1]:.3f} s after {a.max_evals} laps "
           f"(target {a.target:g} s); {a.output} not written", file=sys.stderr)
     return 3

@@ -8,11 +8,11 @@
 #include <chrono>
 #include <cmath>
 #include <sstream>
-#include <thread>
 #include <utility>
 
 #include "lap/solver/direct_node.h"
 #include "lap/solver/hamiltonian.h"
+#include "lap/solver/parallel.h"
 
 namespace ttz::lap {
 namespace {
@@ -47,22 +47,6 @@ constexpr int ConstraintEntries() {
   int n = 0;
   for (int j = 0; j < kNumConstraints; ++j) n += ConstraintStateCount(j);
   return n;
-}
-
-// Runs ok(k) for every interval k in [0, n), the intervals split in `threads` contiguous parts;
-// true if every call returned true.
-template <typename F>
-bool ForEachInterval(int n, int threads, F ok) {
-  const int parts = std::max(1, threads);
-  std::vector<char> part_ok(parts, 1);
-  auto work = [&](int p) {
-    for (int k = n * p / parts; k < n * (p + 1) / parts && part_ok[p]; ++k) part_ok[p] = ok(k);
-  };
-  std::vector<std::thread> pool;
-  for (int p = 1; p < parts; ++p) pool.emplace_back(work, p);
-  work(0);
-  for (std::thread& t : pool) t.join();
-  return std::all_of(part_ok.begin(), part_ok.end(), [](char c) { return c != 0; });
 }
 
 // The transcription's data: mesh, midpoints (ipopt_direct.h).

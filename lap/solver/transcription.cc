@@ -2,26 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <thread>
+
+#include "lap/solver/parallel.h"
 
 namespace ttz::lap {
-
-namespace {
-
-// f(i) for i in [0, n) on `threads` threads.
-template <typename F>
-void ParallelFor(int n, int threads, F f) {
-  auto work = [&](int first, int last) {
-    for (int i = first; i < last; ++i) f(i);
-  };
-  const int parts = std::max(1, threads);
-  std::vector<std::thread> pool;
-  for (int p = 1; p < parts; ++p) pool.emplace_back(work, n * p / parts, n * (p + 1) / parts);
-  work(0, n / parts);
-  for (auto& t : pool) t.join();
-}
-
-}  // namespace
 
 double Transcription::NodeLength(int k) const {
   return 0.5 * ((k > 0 ? H(k - 1) : 0.0) + (k + 1 < NumNodes() ? H(k) : 0.0));
@@ -31,13 +15,14 @@ void Transcription::EvaluateMids(bool jacobians) {
   const int n = NumNodes() - 1;
   const BarrierWeight split = SplitWeight();
   if (node_barriers)
-    ParallelFor(n, threads, [&](int k) {
+    ForEachInterval(n, threads, [&](int k) {
       StateVector<double> xs;
       std::copy(W(k + 1), W(k + 1) + kNumStates, xs.begin());
       EvaluateNodeBarrier(*v, sc, road_nodes[k + 1], split, NodeLength(k + 1), xs, jacobians,
                           &nodes[k + 1]);
+      return true;  // validity is read from the nodes below
     });
-  ParallelFor(n, threads, [&](int k) {
+  ForEachInterval(n, threads, [&](int k) {
     StateVector<double> xs, mu;
     for (int i = 0; i < kNumStates; ++i) {
       xs[i] = 0.5 * (W(k)[i] + W(k + 1)[i]);
@@ -46,6 +31,7 @@ void Transcription::EvaluateMids(bool jacobians) {
         mu[i] += 0.5 * (RightShare(k) * nodes[k + 1].grad(i) - LeftShare(k) * nodes[k].grad(i));
     }
     EvaluateNode(*v, sc, road[k], split, xs, mu, jacobians, &mids[k]);
+    return true;  // validity is read from the midpoints below
   });
   all_valid = std::all_of(mids.begin(), mids.end(), [](const NodeData& d) { return d.valid; }) &&
               (!node_barriers || std::all_of(nodes.begin() + 1, nodes.end(),
