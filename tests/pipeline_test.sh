@@ -18,13 +18,18 @@ done
 grep -q "^converged      yes" "$d/reference/lap.txt" || fail "the reference lap did not converge: $(cat "$d/reference/lap.txt")"
 
 # Dry runs (nothing solved): on the whole course the calibration's lap at the fitted value is the
-# reference lap unless the calibration solves with other flags; motors/2_4 is the reference lap.
+# reference lap unless the calibration solves with other flags.
 plan=$(run_make -n run PIECE_M=)
 echo "$plan" | grep -q -- "--keep-lap $out/snaefell/reference --" || fail "make run does not keep the calibration's lap"
 ! echo "$plan" | grep -q "reference/lap-attempt.h5" || fail "make run solves the reference lap again"
 plan=$(run_make -n run PIECE_M= CAL_FLAGS="--solver ipopt --ds 20")
 echo "$plan" | grep -q "reference/lap-attempt.h5" || fail "with other CAL_FLAGS the reference lap is not solved"
-run_make -n motors | grep -q "^cp $d/reference/lap.h5 $d/studies/motors/2_4/lap.h5.tmp" || fail "motors/2_4 is not the reference lap"
+# Every study's point at data/bx15.yaml's own values is the reference lap; others are solved.
+plan=$(run_make -n motors gear battery grid GEARS="2.8 3.0" PACK_MJ="51" GRID_GEARS="2.8" GRID_MJ="51")
+for p in motors/2_4 gear/2.8 battery/51 grid/2.8_51; do
+  echo "$plan" | grep -q "^cp $d/reference/lap.h5 $d/studies/$p/lap.h5.tmp" || fail "$p is not the reference lap"
+done
+echo "$plan" | grep -q "gear/3.0/lap-attempt.h5" || fail "gear 3.0 is not solved"
 
 run_make gear GEARS="3.0 3.4" WARM_START=yes -j1
 for g in 3.0 3.4; do [ -s "$d/studies/gear/$g/lap.h5" ] || fail "gear $g: no lap.h5"; done
