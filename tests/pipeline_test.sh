@@ -24,12 +24,17 @@ echo "$plan" | grep -q -- "--keep-lap $out/snaefell/reference --" || fail "make 
 ! echo "$plan" | grep -q "reference/lap-attempt.h5" || fail "make run solves the reference lap again"
 plan=$(run_make -n run PIECE_M= CAL_FLAGS="--solver ipopt --ds 20")
 echo "$plan" | grep -q "reference/lap-attempt.h5" || fail "with other CAL_FLAGS the reference lap is not solved"
-# Every study's point at data/bx15.yaml's own values is the reference lap; others are solved.
-plan=$(run_make -n motors gear battery grid GEARS="2.8 3.0" PACK_MJ="51" GRID_GEARS="2.8" GRID_MJ="51")
+# Every study's point at data/bx15.yaml's own values is the reference lap; the grid's points at
+# its pack or gear are the gear or battery study's; the others are solved.
+plan=$(run_make -n motors gear battery grid GEARS="2.8 3.0" PACK_MJ="51" GRID_GEARS="2.8 3.0" GRID_MJ="37 51")
 for p in motors/2_4 gear/2.8 battery/51 grid/2.8_51; do
   echo "$plan" | grep -q "^cp $d/reference/lap.h5 $d/studies/$p/lap.h5.tmp" || fail "$p is not the reference lap"
 done
-echo "$plan" | grep -q "gear/3.0/lap-attempt.h5" || fail "gear 3.0 is not solved"
+echo "$plan" | grep -q "^cp $d/studies/gear/3.0/lap.h5 $d/studies/grid/3.0_51/lap.h5.tmp" || fail "grid 3.0_51 is not gear 3.0"
+echo "$plan" | grep -q "^cp $d/studies/battery/37/lap.h5 $d/studies/grid/2.8_37/lap.h5.tmp" || fail "grid 2.8_37 is not battery 37"
+solved=$(echo "$plan" | grep -o "studies/[a-z]*/[0-9._]*/lap-attempt.h5" | sort -u | tr '\n' ' ')
+[ "$solved" = "studies/battery/37/lap-attempt.h5 studies/gear/3.0/lap-attempt.h5 studies/grid/3.0_37/lap-attempt.h5 studies/motors/3_4/lap-attempt.h5 studies/motors/3_5/lap-attempt.h5 " ] ||
+  fail "the dry run solves $solved"
 
 run_make gear GEARS="3.0 3.4" WARM_START=yes -j1
 for g in 3.0 3.4; do [ -s "$d/studies/gear/$g/lap.h5" ] || fail "gear $g: no lap.h5"; done
