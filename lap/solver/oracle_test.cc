@@ -107,5 +107,42 @@ TEST(OracleTest, HairpinOnADescent) {
        1e-4, 13.1716, 33, 342});
 }
 
+// The curvature of a bend of radius `radius_m` (positive left) from s0 to s1, ramped in and out
+// over 20 m [1/m].
+double Bend(double s, double s0, double s1, double radius_m) {
+  return std::clamp(std::min(s - s0, s1 - s) / 20.0 + 1.0, 0.0, 1.0) / radius_m;
+}
+
+// 5 km of straights, fast sweepers, S-bends, a 20 m hairpin and two tight bends over hills of up
+// to 6 % slope. The indirect solver does not converge here yet (docs/lap.md, "Status": its first
+// step at eps = 1 stalls at a non-zero least-squares minimum), so this guards the oracle alone: a
+// saved reference solution (measured in session 8) of its lap time and iterations on a 5 m mesh,
+// honest and no slower than the QSS lap.
+TEST(OracleTest, MixedRoad5kmIpoptReference) {
+  const auto kappa = [](double s) {
+    return Bend(s, 400, 560, 80) + Bend(s, 900, 1000, -60) + Bend(s, 1000, 1100, 60) +
+           Bend(s, 1500, 1560, 20) + Bend(s, 2200, 2500, -200) + Bend(s, 3000, 3150, 40) +
+           Bend(s, 3150, 3300, -40) + Bend(s, 3800, 3860, 25) + Bend(s, 4300, 4600, 150);
+  };
+  const auto sigma = [](double s) {
+    return 0.04 * std::sin(2 * kPi * s / 1500) + 0.02 * std::sin(2 * kPi * s / 700);
+  };
+  const Vehicle v = MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml"));
+  const RoadTrack road(testing::SyntheticRoad(5000.0, 8.0, kappa, sigma));
+  const std::vector<double> mesh = UniformMesh(road.Length(), 5.0);
+  const QssLap qss = ComputeQss(v, road, mesh);
+  SolveSummary summary;
+  const LapSolution sol = SolveDirectIpopt(v, road, mesh, qss.x, qss.u, IpoptOptions{}, &summary);
+  std::cout << "mixed road, 5 km: Ipopt " << sol.lap_time << " s, " << summary.iterations
+            << " iterations, " << summary.solve_seconds << " s; QSS " << qss.lap_time << " s\n";
+  ASSERT_TRUE(summary.converged) << summary.message;
+  EXPECT_LE(summary.max_state_defect, 1e-6);
+  for (int j = 0; j < kNumConstraints; ++j)
+    EXPECT_LE(summary.max_violation[j], 1e-4) << kConstraintNames[j];
+  EXPECT_LT(sol.lap_time, qss.lap_time);
+  EXPECT_NEAR(sol.lap_time, 159.242, 1e-4 * 159.242);
+  EXPECT_LE(summary.iterations, 1.25 * 87);
+}
+
 }  // namespace
 }  // namespace ttz::lap
