@@ -420,7 +420,7 @@ TEST(AnalyticTest, PackTooSmallMakesTheChargeActiveAndTheLapSlower) {
     sol[i] = Solve(*bikes[i], road, mesh, qss[i], &summary[i]);
     ASSERT_NO_FATAL_FAILURE(ExpectHonest(sol[i], summary[i], qss[i]));
   }
-  // Measured: 8.617 s with the full pack, 9.375 s (+8.8 %) with the small one, which ends the lap
+  // Measured: 8.619 s with the full pack, 9.377 s (+8.8 %) with the small one, which ends the lap
   // empty (the charge constraint active to the solver's tolerance, 1e-8 of the pack).
   EXPECT_GT(sol[1].lap_time, 1.02 * sol[0].lap_time);
   EXPECT_GT(summary[1].max_violation[kCharge], -1e-6);

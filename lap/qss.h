@@ -36,9 +36,9 @@ double MaxTractionForce(const Vehicle& v, double V, double e, double T);
 // and energy e0, whatever the road; if V0 exceeds what the tyre allows at s = 0 the profile brakes
 // to its envelope over the first interval (a start the model cannot hold; the solvers, which fix
 // x[0], report the violated constraint).
-// When the pack cannot last the lap at full power, the pack's power is held under one limit for
-// the whole lap, the largest that leaves 1 % of the pack at the end (an energy-saving lap, paper
-// sec. 5), rather than spent at full power until the pack is empty.
+// When the pack cannot last the lap at full power, the lap is the faster of two: full power until
+// the pack is empty, and the pack's power held under one limit for the whole lap, the largest
+// that leaves 1 % of the pack at the end (an energy-saving lap, paper sec. 5).
 QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh);
 
 }  // namespace ttz::lap

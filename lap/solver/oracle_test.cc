@@ -107,8 +107,8 @@ TEST(OracleTest, HairpinOnADescent) {
        1e-4, 13.1716, 33, 342});
 }
 
-// The curvature of a bend of radius `radius_m` (positive left) from s0 to s1, ramped in and out
-// over 20 m [1/m].
+// The curvature of a bend of radius `radius_m` (positive left), full from s0 to s1 and ramped
+// from zero over the 20 m before s0 and after s1 [1/m] (bends that meet overlap their ramps).
 double Bend(double s, double s0, double s1, double radius_m) {
   return std::clamp(std::min(s - s0, s1 - s) / 20.0 + 1.0, 0.0, 1.0) / radius_m;
 }
