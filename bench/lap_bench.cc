@@ -1,7 +1,9 @@
 // Benchmark of the lap solvers on a piece of a road.h5 (e.g. the Snaefell course that `make run`
 // fits): both solvers from the QSS guess on the mesh of `lap --ds DS_M --dt-max DT_MAX_S` (lap/mesh.h)
 // from 0 to LENGTH_M, printing lap time, convergence, iterations, wall time, time per iteration,
-// peak memory and the re-simulation check's lap-time and largest state difference (not a test).
+// CPU time (all threads) per iteration and node, peak memory and the re-simulation check's
+// lap-time and largest state difference (not a test). CPU time per iteration and node is the
+// figure to compare across meshes: other processes sharing the machine do not count in it.
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -26,13 +28,27 @@ double PeakMegabytes() {
   return u.ru_maxrss / 1024.0;
 }
 
-void Print(const char* solver, const ttz::lap::Vehicle& v, const ttz::lap::RoadTrack& road,
-           const ttz::lap::LapSolution& sol, const ttz::lap::SolveSummary& s) {
+// User + system CPU time of this process, all threads [s].
+double CpuSeconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+// Solves by `solve` (a callable filling its SolveSummary) and prints one row of the table.
+template <typename Solve>
+void Run(const char* solver, const ttz::lap::Vehicle& v, const ttz::lap::RoadTrack& road,
+         size_t nodes, Solve solve) {
   using namespace ttz::lap;
+  SolveSummary s;
+  const double cpu_start = CpuSeconds();
+  const LapSolution sol = solve(&s);
+  const double cpu_us_per_node = 1e6 * (CpuSeconds() - cpu_start) / std::max(1, s.iterations) / nodes;
   const ResimReport r = Resimulate(v, road, sol, ResimOptions{});
-  std::printf("%-9s %10.4f %12.4f %5d %6d %9.1f %10.3f %8.0f %9.4f %8.3f %-9s %s\n", solver, sol.lap_time,
-              sol.lap_time_extrapolated, s.converged ? 1 : 0, s.iterations, s.solve_seconds,
-              s.solve_seconds / std::max(1, s.iterations), PeakMegabytes(), 100.0 * r.lap_time_relative,
+  std::printf("%-9s %10.4f %12.4f %5d %6d %9.1f %10.3f %11.0f %8.0f %9.4f %8.3f %-9s %s\n", solver,
+              sol.lap_time, sol.lap_time_extrapolated, s.converged ? 1 : 0, s.iterations,
+              s.solve_seconds, s.solve_seconds / std::max(1, s.iterations), cpu_us_per_node,
+              PeakMegabytes(), 100.0 * r.lap_time_relative,
               100.0 * r.max_state_difference_all, kStateNames[r.worst_state], s.message.c_str());
 }
 
@@ -55,15 +71,16 @@ int main(int argc, char** argv) {
   const std::string which = argc > 5 ? argv[5] : "both";
   const QssLap qss = ComputeQss(v, road, mesh);
   std::printf("%zu nodes over %.1f m, QSS lap %.4f s\n", mesh.size(), mesh.back(), qss.lap_time);
-  std::printf("%-9s %10s %12s %5s %6s %9s %10s %8s %9s %8s %-9s\n", "solver", "lap_s", "extrap_s", "conv",
-              "iters", "wall_s", "s_per_iter", "peak_MB", "resim_t%", "resim_x%", "worst");
-  if (which != "ipopt") {
-    SolveSummary s;
-    Print("indirect", v, road, SolveIndirect(v, road, mesh, qss.x, {}, qss.u, IndirectOptions{}, &s), s);
-  }
-  if (which != "indirect") {
-    SolveSummary s;
-    Print("ipopt", v, road, SolveDirectIpopt(v, road, mesh, qss.x, qss.u, IpoptOptions{}, &s), s);
-  }
+  std::printf("%-9s %10s %12s %5s %6s %9s %10s %11s %8s %9s %8s %-9s\n", "solver", "lap_s", "extrap_s",
+              "conv", "iters", "wall_s", "s_per_iter", "cpu_us_node", "peak_MB", "resim_t%",
+              "resim_x%", "worst");
+  if (which != "ipopt")
+    Run("indirect", v, road, mesh.size(), [&](SolveSummary* s) {
+      return SolveIndirect(v, road, mesh, qss.x, {}, qss.u, IndirectOptions{}, s);
+    });
+  if (which != "indirect")
+    Run("ipopt", v, road, mesh.size(), [&](SolveSummary* s) {
+      return SolveDirectIpopt(v, road, mesh, qss.x, qss.u, IpoptOptions{}, s);
+    });
   return 0;
 }

@@ -32,8 +32,10 @@ Writes into OUTDIR (created if missing), each file atomically:
   report.md          per study, the paper's figures beside ours with the difference in percent,
                      (ours - paper) / paper (for locations such as the optimum gear the absolute
                      difference too; for percentages the difference in percentage points too),
-                     a table of every point, and the points that did not converge
-It prints one summary line per study.
+                     a table of every point, the points that did not converge, and what the
+                     studies cost to solve (each lap's `iterations` and `solve_seconds`; a lap
+                     that several studies share, e.g. a copy of the reference lap, counts once)
+It prints one summary line per study and one of the solve cost.
 
 Definitions:
   0-120 km/h time: t where state/V first reaches 120 km/h (linear between nodes) minus the lap's
@@ -128,6 +130,14 @@ class Point:
         self.pack_j = self.series * self.parallel * bike["battery.cell_energy_j"]
         self.accel_120 = math.nan
         self.efficiency = math.nan
+        timed = "iterations" in lap.h5.attrs and "solve_seconds" in lap.h5.attrs
+        self.iterations = lap.attr("iterations", int) if timed else None
+        self.solve_seconds = lap.attr("solve_seconds") if timed else None
+
+    @property
+    def solve_key(self):
+        """What identifies one solve: a copied lap has the same lap time, iterations and time."""
+        return (self.lap_time, self.iterations, self.solve_seconds)
 
     @property
     def pack_mj(self):
@@ -622,6 +632,40 @@ def reference_section(studies, ref_gear, ref_pack_mj):
     return lines + ["", f"From `{ref.name}`{flag(ref)}.", ""]
 
 
+def cost_section(studies):
+    """report.md section and summary line of the solve cost: per study its laps not already
+    counted for a study before it, their iterations and solve time (lap.h5's solve_seconds: the
+    wall time of each solve, with whatever shared the machine then)."""
+    counted, rows, untimed = set(), [], 0
+    total_laps = total_iterations = total_seconds = 0
+    for study, points in studies.items():
+        new = []
+        for p in points:
+            if p.solve_seconds is None:
+                untimed += 1
+            elif p.solve_key not in counted:
+                counted.add(p.solve_key)
+                new.append(p)
+        iterations = sum(p.iterations for p in new)
+        seconds = sum(p.solve_seconds for p in new)
+        rows.append([study, len(points), len(new), iterations, f"{seconds / 3600:.2f}"])
+        total_laps, total_iterations = total_laps + len(new), total_iterations + iterations
+        total_seconds += seconds
+    rows.append(["all", sum(len(p) for p in studies.values()), total_laps, total_iterations,
+                 f"{total_seconds / 3600:.2f}"])
+    lines = ["## Solve cost", "",
+             "Each lap's `solve_seconds` is the wall time of its solve, with whatever else shared "
+             "the machine then; a lap shared by several points (the same lap time, iterations and "
+             "solve time: a copy) counts once, for the first study that has it. `make -j2` "
+             "solves two laps at once.", ""]
+    lines += table(["study", "points", "laps solved", "iterations", "solve time h"], rows)
+    if untimed:
+        lines += ["", f"Points without `iterations`/`solve_seconds`, not counted: {untimed}."]
+    summary = (f"solve cost: {total_laps} laps, {total_iterations} iterations, "
+               f"{total_seconds / 3600:.2f} h")
+    return lines + [""], summary
+
+
 def report_text(studies, ref_gear, ref_pack_mj):
     """report.md and the summary lines."""
     lines = ["# Design studies against the paper (section 5)", "",
@@ -640,7 +684,8 @@ def report_text(studies, ref_gear, ref_pack_mj):
         section, summary = builders[study](points)
         lines += section
         summaries.append(summary)
-    return "\n".join(lines), summaries
+    section, summary = cost_section(studies)
+    return "\n".join(lines + section), summaries + [summary]
 
 
 # --- figures ---------------------------------------------------------------------------------

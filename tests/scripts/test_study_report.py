@@ -3,6 +3,7 @@
 known optima found, the paper compared, non-converged points reported, bad input refused."""
 import os
 import re
+import shutil
 import unittest
 
 import h5py
@@ -31,7 +32,8 @@ def bike_yaml(gear=2.8, motors=2, parallel=4, series=24, cell_j=CELL_J, base_mas
 
 
 def write_point(path, lap_time, energy_used, top_speed=60.0, converged=1, message="",
-                accel=5.0, efficiency=0.7, schema="ttz.lap", without=(), **bike):
+                accel=5.0, efficiency=0.7, schema="ttz.lap", without=("iterations",
+                "solve_seconds"), iterations=100, solve_seconds=900.0, **bike):
     """A lap.h5 of one design point: t uniform to lap_time, V = 5 + accel t (capped at 70 m/s),
     battery power 50 kW then -5 kW, wheel power efficiency x 50 kW then -8 kW (so the positive
     parts' ratio is `efficiency`). Attributes in `without` are left out."""
@@ -48,7 +50,8 @@ def write_point(path, lap_time, energy_used, top_speed=60.0, converged=1, messag
         attrs = {"schema": schema, "schema_version": 2, "lap_time": lap_time,
                  "top_speed": top_speed, "energy_used": energy_used,
                  "energy_fraction": energy_used / pack_j, "converged": np.int8(converged),
-                 "message": message, "bike_yaml": bike_yaml(**bike), "road_sha256": "abc"}
+                 "message": message, "bike_yaml": bike_yaml(**bike), "road_sha256": "abc",
+                 "iterations": np.int32(iterations), "solve_seconds": solve_seconds}
         h5.attrs.update({k: v for k, v in attrs.items() if k not in without})
     return path
 
@@ -154,6 +157,25 @@ class StudyReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
         self.assertTrue(lines[2].startswith("grid: minimum lap 27:34.0 at gear 3.4, 42.00 MJ"),
                         lines[2])
         self.assertTrue(lines[3].startswith("motors: 2 motors 4P24S 29:31 72 %"), lines[3])
+
+    def test_solve_cost_counts_a_copied_lap_once(self):
+        gear = [write_point(self.path(f"g{g}.h5"), gear_lap_time(g), 36e6, gear=g, without=(),
+                            iterations=100 * (k + 1), solve_seconds=1800.0 * (k + 1))
+                for k, g in enumerate((2.8, 3.1, 3.4))]
+        battery = [shutil.copy(gear[0], self.path("b51.h5")),
+                   write_point(self.path("b37.h5"), 1790.0, 36e6, cell_j=37e6 / 96, without=(),
+                               iterations=50, solve_seconds=720.0),
+                   write_point(self.path("b30.h5"), 1800.0, 30e6, cell_j=30e6 / 96)]
+        result = fx.run("study_report.py", "--gear", *gear, "--battery", *battery, "-o", self.out)
+        self.assert_ok(result)
+        report = self.read("report.md")
+        # gear: 100 + 200 + 300 iterations, 1800 + 3600 + 5400 s = 3 h; battery: the copy of
+        # g2.8 counted already, b30 untimed, so b37 alone: 50 iterations, 0.2 h
+        self.assertIn("| gear | 3 | 3 | 600 | 3.00 |", report)
+        self.assertIn("| battery | 3 | 1 | 50 | 0.20 |", report)
+        self.assertIn("| all | 6 | 4 | 650 | 3.20 |", report)
+        self.assertIn("Points without `iterations`/`solve_seconds`, not counted: 1.", report)
+        self.assertEqual(result.stdout.splitlines()[2], "solve cost: 4 laps, 650 iterations, 3.20 h")
 
     def test_incomplete_grid_with_unconverged_point(self):
         paths = self.grid_study(skip={(3.6, 47.0)})
