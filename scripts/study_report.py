@@ -4,7 +4,7 @@ Table 1) from sets of lap.h5 files (docs/lap_h5.md), one per design point, each 
 `lap road.h5 data/bx15.yaml --set key=value ... -o lap.h5`.
 
 usage: study_report.py [--gear LAP...] [--battery LAP...] [--grid LAP...] [--motors LAP...]
-           -o OUTDIR [--reference-gear 2.8] [--reference-pack-mj 51]
+           -o OUTDIR [--reference-gear 2.8] [--reference-pack-mj 51] [--partial]
 
 Each study option takes lap.h5 files or folders (a folder stands for its *.h5 files and its
 */lap.h5 files, sorted by name); give any subset of the four, at least one. A point's design is
@@ -16,7 +16,9 @@ read from its `bike_yaml` attribute (the bike after the --set overrides):
 pack energy [J] = battery.cells_series x battery.cells_parallel x battery.cell_energy_j; the pack
 varies through any of those three keys. Every other bike key must be the same at all points of a
 study, no two points may share the study's coordinates, and the points' road_sha256 (when given)
-must agree.
+must agree. A study needs at least 2 points that vary its key (a grid: points off one line of gear
+x pack); with --partial (a report of the points solved so far) a study that has not got them yet
+is left out with a line saying so, instead of refused, and with no study left nothing is written.
 
 Writes into OUTDIR (created if missing), each file atomically:
   fig12_gear.png     (--gear) vs gear ratio: lap time [s], top speed on course [km/h] (attribute
@@ -253,13 +255,17 @@ def describe(study, point):
     return f"{point.motors} motors, {point.arrangement}, {point.pack_mj:.2f} MJ"
 
 
+class TooFewPoints(ttz_h5.InputError):
+    """A study whose points cannot make its figure yet (too few, or not varying its key)."""
+
+
 def check_study(study, points):
     """Refuses a study of fewer than 2 points, points varying another key, two points of the
     same design, points of different roads, or a study that does not vary its key."""
     option, _, allowed = STUDIES[study]
     if len(points) < 2:
-        raise ttz_h5.InputError(option, f"{len(points)} lap.h5 given, a study needs at least 2 "
-                                "design points")
+        raise TooFewPoints(option, f"{len(points)} lap.h5 given, a study needs at least 2 "
+                           "design points")
     first = points[0]
     for point in points[1:]:
         for key in sorted(set(first.bike) | set(point.bike)):
@@ -276,8 +282,8 @@ def check_study(study, points):
     for index, label in varied:
         values = {coordinates(study, p)[index] for p in points}
         if len(values) < 2:
-            raise ttz_h5.InputError(option, f"all {len(points)} points have the same {label}: "
-                                    f"the {study} study must vary {label}")
+            raise TooFewPoints(option, f"all {len(points)} points have the same {label}: "
+                               f"the {study} study must vary {label}")
     seen = {}
     for point in points:
         key = coordinates(study, point)
@@ -290,19 +296,26 @@ def check_study(study, points):
         xy = np.array([[p.gear, p.pack_mj] for p in points])
         spread = (xy - xy.mean(axis=0)) / np.ptp(xy, axis=0)
         if np.linalg.matrix_rank(spread, tol=1e-9) < 2:
-            raise ttz_h5.InputError(option, f"the {len(points)} points lie on one line of gear "
-                                    "ratio x pack energy: a grid needs points off it")
+            raise TooFewPoints(option, f"the {len(points)} points lie on one line of gear "
+                               "ratio x pack energy: a grid needs points off it")
 
 
 def read_studies(args):
-    """{study: [Point]} of the studies given, read and checked."""
+    """{study: [Point]} of the studies given, read and checked; with args.partial a study with
+    too few points is left out (printed), not refused."""
     studies = {}
     for study in STUDIES:
         paths = getattr(args, study)
         if paths is None:
             continue
         points = [read_point(path, study == "gear") for path in expand(paths)]
-        check_study(study, points)
+        try:
+            check_study(study, points)
+        except TooFewPoints as why:
+            if not args.partial:
+                raise
+            print(f"{study}: left out, {why}")
+            continue
         studies[study] = points
     return studies
 
@@ -839,6 +852,8 @@ def parse_args():
                         help="gear ratio of the reference design (default 2.8, data/bx15.yaml)")
     parser.add_argument("--reference-pack-mj", type=float, default=PAPER["reference_pack_mj"],
                         help="pack energy of the reference design [MJ] (default 51, 4P24S)")
+    parser.add_argument("--partial", action="store_true",
+                        help="leave out a study with too few points instead of refusing it")
     args = parser.parse_args()
     if all(getattr(args, study) is None for study in STUDIES):
         parser.error("give at least one of " + ", ".join(o for o, _, _ in STUDIES.values()))
@@ -849,6 +864,9 @@ def main():
     """Reads and checks every study, then writes the figures, table1.md and report.md."""
     args = parse_args()
     studies = read_studies(args)
+    if not studies:
+        print("no study has enough points yet: nothing written")
+        return
     report, summaries = report_text(studies, args.reference_gear, args.reference_pack_mj)
     plt = ttz_h5.pyplot()
     builders = {}

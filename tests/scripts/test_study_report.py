@@ -234,6 +234,29 @@ class StudyReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
                                 cell_j=(40.0 + k) * 1e6 / 96) for k in range(3)]
         self.refused("--grid", *diagonal, "--", "--grid", "one line")
 
+    def test_partial_leaves_out_studies_with_too_few_points(self):
+        on_a_line = self.grid_study(skip={(3.2, 42.0), (3.2, 47.0), (3.4, 37.0), (3.4, 47.0),
+                                          (3.6, 37.0), (3.6, 42.0)})  # the diagonal
+        result = fx.run("study_report.py", "--partial", "--gear", self.gear_study(),
+                        "--battery", self.battery_study()[0], "--grid", *on_a_line,
+                        "-o", self.out)
+        self.assert_ok(result)
+        lines = result.stdout.splitlines()
+        self.assertRegex(lines[0], r"^battery: left out, --battery: 1 lap.h5 given")
+        self.assertRegex(lines[1], r"^grid: left out, --grid: the 3 points lie on one line")
+        self.assertTrue(lines[2].startswith("gear: optimum 3.3"), lines[2])
+        report = self.read("report.md")
+        self.assertIn("## Gear ratio", report)
+        self.assertNotIn("## Battery", report)
+        self.assertFalse(os.path.exists(os.path.join(self.out, "fig15_grid.png")))
+
+    def test_partial_with_no_study_left_writes_nothing(self):
+        result = fx.run("study_report.py", "--partial", "--motors", self.motor_study()[0],
+                        "-o", self.out)
+        self.assert_ok(result)
+        self.assertIn("no study has enough points yet: nothing written", result.stdout)
+        self.assertFalse(os.path.exists(self.out), "output written")
+
 
 if __name__ == "__main__":
     fx.main()
