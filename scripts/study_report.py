@@ -53,9 +53,10 @@ Definitions:
   Reference design (red circle): gear ratio --reference-gear (2.8, data/bx15.yaml), pack energy
     --reference-pack-mj (51 MJ, 4P24S), 2 motors. The optimum is a green diamond, as in the paper.
 
-Bad input (a missing file, a lap.h5 of another schema, a missing attribute or bike key, a study
-with fewer than 2 points or whose points do not vary its key) is reported as one line on stderr
-naming the file or key, exit status 1, and nothing is written: all input is read and checked first.
+Bad input (a missing file, a lap.h5 of another schema, a missing attribute or bike key, two points
+of the same design, a study with fewer than 2 points or whose points do not vary its key, the last
+two left out instead with --partial) is reported as one line on stderr naming the file or key, exit
+status 1, and nothing is written: all input is read and checked first.
 """
 import glob
 import math
@@ -276,14 +277,6 @@ def check_study(study, points):
         if first.road and point.road and first.road != point.road:
             raise ttz_h5.InputError(point.path, f"road_sha256 differs from {first.path}'s: "
                                     "a lap of another road")
-    pack = "pack energy (" + " x ".join(PACK_KEYS) + ")"
-    varied = {"gear": [(0, GEAR_KEY)], "battery": [(0, pack)],
-              "grid": [(0, GEAR_KEY), (1, pack)], "motors": []}[study]
-    for index, label in varied:
-        values = {coordinates(study, p)[index] for p in points}
-        if len(values) < 2:
-            raise TooFewPoints(option, f"all {len(points)} points have the same {label}: "
-                               f"the {study} study must vary {label}")
     seen = {}
     for point in points:
         key = coordinates(study, point)
@@ -292,6 +285,14 @@ def check_study(study, points):
                                     f"{seen[key].path}: each point of the {study} study must "
                                     "differ")
         seen[key] = point
+    pack = "pack energy (" + " x ".join(PACK_KEYS) + ")"
+    varied = {"gear": [(0, GEAR_KEY)], "battery": [(0, pack)],
+              "grid": [(0, GEAR_KEY), (1, pack)], "motors": []}[study]
+    for index, label in varied:
+        values = {coordinates(study, p)[index] for p in points}
+        if len(values) < 2:
+            raise TooFewPoints(option, f"all {len(points)} points have the same {label}: "
+                               f"the {study} study must vary {label}")
     if study == "grid":
         xy = np.array([[p.gear, p.pack_mj] for p in points])
         spread = (xy - xy.mean(axis=0)) / np.ptp(xy, axis=0)
@@ -650,7 +651,6 @@ def cost_section(studies):
     counted for a study before it, their iterations and solve time (lap.h5's solve_seconds: the
     wall time of each solve, with whatever shared the machine then)."""
     counted, rows, untimed = set(), [], 0
-    total_laps = total_iterations = total_seconds = 0
     for study, points in studies.items():
         new = []
         for p in points:
@@ -659,13 +659,11 @@ def cost_section(studies):
             elif p.solve_key not in counted:
                 counted.add(p.solve_key)
                 new.append(p)
-        iterations = sum(p.iterations for p in new)
-        seconds = sum(p.solve_seconds for p in new)
-        rows.append([study, len(points), len(new), iterations, f"{seconds / 3600:.2f}"])
-        total_laps, total_iterations = total_laps + len(new), total_iterations + iterations
-        total_seconds += seconds
-    rows.append(["all", sum(len(p) for p in studies.values()), total_laps, total_iterations,
-                 f"{total_seconds / 3600:.2f}"])
+        rows.append([study, len(points), len(new), sum(p.iterations for p in new),
+                     sum(p.solve_seconds for p in new) / 3600])
+    total_laps, total_iterations, total_hours = (sum(row[k] for row in rows) for k in (2, 3, 4))
+    rows.append(["all", sum(row[1] for row in rows), total_laps, total_iterations, total_hours])
+    rows = [row[:4] + [f"{row[4]:.2f}"] for row in rows]
     lines = ["## Solve cost", "",
              "Each lap's `solve_seconds` is the wall time of its solve, with whatever else shared "
              "the machine then; a lap shared by several points (the same lap time, iterations and "
@@ -674,8 +672,7 @@ def cost_section(studies):
     lines += table(["study", "points", "laps solved", "iterations", "solve time h"], rows)
     if untimed:
         lines += ["", f"Points without `iterations`/`solve_seconds`, not counted: {untimed}."]
-    summary = (f"solve cost: {total_laps} laps, {total_iterations} iterations, "
-               f"{total_seconds / 3600:.2f} h")
+    summary = f"solve cost: {total_laps} laps, {total_iterations} iterations, {total_hours:.2f} h"
     return lines + [""], summary
 
 
@@ -855,7 +852,7 @@ def parse_args():
     parser.add_argument("--partial", action="store_true",
                         help="leave out a study with too few points instead of refusing it")
     args = parser.parse_args()
-    if all(getattr(args, study) is None for study in STUDIES):
+    if all(getattr(args, study) is None for study in STUDIES) and not args.partial:
         parser.error("give at least one of " + ", ".join(o for o, _, _ in STUDIES.values()))
     return args
 

@@ -32,11 +32,11 @@ def bike_yaml(gear=2.8, motors=2, parallel=4, series=24, cell_j=CELL_J, base_mas
 
 
 def write_point(path, lap_time, energy_used, top_speed=60.0, converged=1, message="",
-                accel=5.0, efficiency=0.7, schema="ttz.lap", without=("iterations",
-                "solve_seconds"), iterations=100, solve_seconds=900.0, **bike):
+                accel=5.0, efficiency=0.7, schema="ttz.lap", without=(), timed=None, **bike):
     """A lap.h5 of one design point: t uniform to lap_time, V = 5 + accel t (capped at 70 m/s),
     battery power 50 kW then -5 kW, wheel power efficiency x 50 kW then -8 kW (so the positive
-    parts' ratio is `efficiency`). Attributes in `without` are left out."""
+    parts' ratio is `efficiency`). Attributes in `without` are left out; `timed` = (iterations,
+    solve_seconds) writes those attributes."""
     pack_j = bike.get("series", 24) * bike.get("parallel", 4) * bike.get("cell_j", CELL_J)
     t = np.linspace(0.0, lap_time, NODES)
     half = np.arange(NODES) < NODES // 2
@@ -50,8 +50,9 @@ def write_point(path, lap_time, energy_used, top_speed=60.0, converged=1, messag
         attrs = {"schema": schema, "schema_version": 2, "lap_time": lap_time,
                  "top_speed": top_speed, "energy_used": energy_used,
                  "energy_fraction": energy_used / pack_j, "converged": np.int8(converged),
-                 "message": message, "bike_yaml": bike_yaml(**bike), "road_sha256": "abc",
-                 "iterations": np.int32(iterations), "solve_seconds": solve_seconds}
+                 "message": message, "bike_yaml": bike_yaml(**bike), "road_sha256": "abc"}
+        if timed:
+            attrs.update(iterations=np.int32(timed[0]), solve_seconds=timed[1])
         h5.attrs.update({k: v for k, v in attrs.items() if k not in without})
     return path
 
@@ -95,6 +96,10 @@ class StudyReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
                 paths.append(write_point(self.path(f"grid_{gear}_{pack_mj:g}.h5"), lap, 36e6,
                                          gear=gear, cell_j=pack_mj * 1e6 / 96))
         return paths
+
+    def one_gear_grid(self):
+        """The grid's three points at gear 3.2: a grid that does not vary the gear."""
+        return self.grid_study(skip={(g, e) for g in (3.4, 3.6) for e in (37.0, 42.0, 47.0)})
 
     def motor_study(self):
         """The paper's three configurations, given out of order."""
@@ -159,12 +164,12 @@ class StudyReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
         self.assertTrue(lines[3].startswith("motors: 2 motors 4P24S 29:31 72 %"), lines[3])
 
     def test_solve_cost_counts_a_copied_lap_once(self):
-        gear = [write_point(self.path(f"g{g}.h5"), gear_lap_time(g), 36e6, gear=g, without=(),
-                            iterations=100 * (k + 1), solve_seconds=1800.0 * (k + 1))
+        gear = [write_point(self.path(f"g{g}.h5"), gear_lap_time(g), 36e6, gear=g,
+                            timed=(100 * (k + 1), 1800.0 * (k + 1)))
                 for k, g in enumerate((2.8, 3.1, 3.4))]
         battery = [shutil.copy(gear[0], self.path("b51.h5")),
-                   write_point(self.path("b37.h5"), 1790.0, 36e6, cell_j=37e6 / 96, without=(),
-                               iterations=50, solve_seconds=720.0),
+                   write_point(self.path("b37.h5"), 1790.0, 36e6, cell_j=37e6 / 96,
+                               timed=(50, 720.0)),
                    write_point(self.path("b30.h5"), 1800.0, 30e6, cell_j=30e6 / 96)]
         result = fx.run("study_report.py", "--gear", *gear, "--battery", *battery, "-o", self.out)
         self.assert_ok(result)
@@ -217,9 +222,12 @@ class StudyReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
         self.refused("--gear", *paths, "--", "b31.h5", "battery.cell_energy_j", "drive.gear_ratio")
 
     def test_study_not_varying_its_key(self):
+        self.refused("--grid", *self.one_gear_grid(), "--", "--grid", "same drive.gear_ratio")
+
+    def test_same_pack_energy_is_the_same_design(self):
         same_pack = [write_point(self.path("p4.h5"), 1700.0, 3e7),
                      write_point(self.path("p8.h5"), 1700.0, 3e7, parallel=8, series=12)]
-        self.refused("--battery", *same_pack, "--", "--battery", "pack energy")
+        self.refused("--battery", *same_pack, "--", "p8.h5", "same design", "pack energy")
 
     def test_same_design_twice(self):
         one = write_point(self.path("a.h5"), 1700.0, 3e7, gear=3.0)
@@ -237,7 +245,8 @@ class StudyReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
     def test_partial_leaves_out_studies_with_too_few_points(self):
         on_a_line = self.grid_study(skip={(3.2, 42.0), (3.2, 47.0), (3.4, 37.0), (3.4, 47.0),
                                           (3.6, 37.0), (3.6, 42.0)})  # the diagonal
-        result = fx.run("study_report.py", "--partial", "--gear", self.gear_study(),
+        gear = self.gear_study()
+        result = fx.run("study_report.py", "--partial", "--gear", gear,
                         "--battery", self.battery_study()[0], "--grid", *on_a_line,
                         "-o", self.out)
         self.assert_ok(result)
@@ -249,13 +258,24 @@ class StudyReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
         self.assertIn("## Gear ratio", report)
         self.assertNotIn("## Battery", report)
         self.assertFalse(os.path.exists(os.path.join(self.out, "fig15_grid.png")))
+        result = fx.run("study_report.py", "--partial", "--gear", gear,
+                        "--grid", *self.one_gear_grid(), "-o", self.out)
+        self.assert_ok(result)
+        self.assertRegex(result.stdout, r"(?m)^grid: left out, --grid: all 3 points have the same "
+                                        r"drive\.gear_ratio")
 
     def test_partial_with_no_study_left_writes_nothing(self):
-        result = fx.run("study_report.py", "--partial", "--motors", self.motor_study()[0],
-                        "-o", self.out)
-        self.assert_ok(result)
-        self.assertIn("no study has enough points yet: nothing written", result.stdout)
-        self.assertFalse(os.path.exists(self.out), "output written")
+        for studies in (["--motors", self.motor_study()[0]], []):  # one point; none at all
+            result = fx.run("study_report.py", "--partial", *studies, "-o", self.out)
+            self.assert_ok(result)
+            self.assertIn("no study has enough points yet: nothing written", result.stdout)
+            self.assertFalse(os.path.exists(self.out), "output written")
+
+    def test_partial_still_refuses_bad_points(self):
+        same_gear = [write_point(self.path(f"s{k}.h5"), 1700.0, 3e7, gear=3.0) for k in range(2)]
+        self.refused("--partial", "--gear", *same_gear, "--", "s1.h5", "same design")
+        self.refused("--partial", "--gear", *self.battery_study()[:2], "--", "b31.h5",
+                     "battery.cell_energy_j")
 
 
 if __name__ == "__main__":
