@@ -154,8 +154,12 @@ int Run(const Arguments& a) {
                        : LapReportText(sol, summary, channels.figures, resim))
             << std::flush;
   if (!summary.converged) {
+    // The indirect solver does not converge yet on roads longer than a few hundred metres
+    // (docs/lap.md "Status"); the Ipopt oracle does, so the user is told.
+    const std::string hint =
+        a.solver == "indirect" ? " (on a long road, --solver ipopt converges where this solver does not yet)" : "";
     ttz::Log(ttz::LogKind::kError, "the solve did not converge (" + SolveMessage(summary) + "); " + a.output +
-                                       " is written with converged = false");
+                                       " is written with converged = false" + hint);
     return ttz::kExitNotConverged;
   }
   // Issue 3: the answer must also re-simulate within 0.1 %; when not, the mesh does not resolve

@@ -232,10 +232,19 @@ TEST_F(LapCli, ASolveThatDoesNotConvergeExits3AndStillWritesLapH5) {
   EXPECT_EQ(std::count(run.stderr_text.begin(), run.stderr_text.end(), '\n'), 1) << run.stderr_text;
   EXPECT_NE(run.stderr_text.find("the solve did not converge (continuation failed at eps 1;"), std::string::npos)
       << run.stderr_text;
+  EXPECT_NE(run.stderr_text.find("--solver ipopt converges where"), std::string::npos) << run.stderr_text;
   EXPECT_NE(run.stdout_text.find("converged      no ("), std::string::npos) << run.stdout_text;
   const ttz::ArtefactReader r(Path("lap.h5"), "ttz.lap", 2);
   EXPECT_FALSE(r.ReadBoolAttribute("converged"));
   EXPECT_NE(r.ReadStringAttribute("message").find("continuation failed"), std::string::npos);
+}
+
+TEST_F(LapCli, AnIpoptSolveThatDoesNotConvergeExits3WithoutTheHintToUseIpopt) {
+  const std::string road = Road("straight100.h5", StraightRoad(100.0));
+  const CliRun run = Lap(road + " " + kBike + " --ds 4 -q --solver ipopt --max-iterations 2");
+  EXPECT_EQ(run.exit_code, 3) << run.stderr_text;
+  EXPECT_NE(run.stderr_text.find("the solve did not converge ("), std::string::npos) << run.stderr_text;
+  EXPECT_EQ(run.stderr_text.find("--solver ipopt"), std::string::npos) << run.stderr_text;
 }
 
 TEST_F(LapCli, RoadMissing) {
