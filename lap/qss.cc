@@ -332,11 +332,11 @@ std::vector<NodePoint> ForwardPass(const Vehicle& v, const std::vector<RoadPoint
   return nodes;
 }
 
-// Lap time of a forward pass by the trapezoidal rule of 1/V (as Assemble) [s].
-double PassTime(const std::vector<double>& mesh, const std::vector<NodePoint>& nodes) {
-  double t = 0.0;
+// Time at every node of a forward pass by the trapezoidal rule of 1/V, from 0 [s].
+std::vector<double> PassTimes(const std::vector<double>& mesh, const std::vector<NodePoint>& nodes) {
+  std::vector<double> t(mesh.size(), 0.0);
   for (size_t i = 1; i < mesh.size(); ++i)
-    t += 0.5 * (mesh[i] - mesh[i - 1]) * (1.0 / nodes[i - 1].mo.V + 1.0 / nodes[i].mo.V);
+    t[i] = t[i - 1] + 0.5 * (mesh[i] - mesh[i - 1]) * (1.0 / nodes[i - 1].mo.V + 1.0 / nodes[i].mo.V);
   return t;
 }
 
@@ -365,7 +365,8 @@ std::vector<NodePoint> EnergyLimitedPass(const Vehicle& v, const std::vector<Roa
       hi = mid;
     }
   }
-  return !limited.empty() && PassTime(mesh, limited) < PassTime(mesh, full) ? limited : full;
+  return !limited.empty() && PassTimes(mesh, limited).back() < PassTimes(mesh, full).back() ? limited
+                                                                                          : full;
 }
 
 // d f / ds at node i by differences (central inside, one-sided at the ends).
@@ -384,7 +385,7 @@ QssLap Assemble(const std::vector<double>& mesh, const std::vector<NodePoint>& n
   QssLap q;
   q.s = mesh;
   q.V.resize(n);
-  q.t.assign(n, 0.0);
+  q.t = PassTimes(mesh, nodes);
   q.x.resize(n);
   q.u.resize(n);
   std::vector<double> phi(n), z(n), yaw_rate(n), torque(n);
@@ -396,8 +397,6 @@ QssLap Assemble(const std::vector<double>& mesh, const std::vector<NodePoint>& n
     yaw_rate[i] = np.q[kQOmegaZ];
     torque[i] = np.q[kQTauW];
     q.x[i] = StateAt(np.mo, np.q);
-    if (i > 0)
-      q.t[i] = q.t[i - 1] + 0.5 * (mesh[i] - mesh[i - 1]) * (1.0 / q.V[i - 1] + 1.0 / q.V[i]);
   }
   for (int i = 0; i < n; ++i) {
     q.x[i][kOmegaPhi] = q.V[i] * Slope(mesh, phi, i);

@@ -37,9 +37,9 @@ TEST_F(QssPackTest, AFullPackRunsAtFullPower) {
 
 // A pack of 0.96 MJ (96 cells of 10 kJ, as heavy as the full pack: only the energy differs) ends
 // the lap with between 1 % (the reserve) and 1.2 % of its energy (the bisection stops at 0.1 % of
-// the power limit, ~0.07 % of the energy), and so spends the rest of it over the whole lap; full power until the pack is
-// empty would end it at 0. (Measured: 124.0 s, 9.7 kJ left.) Spending the pack first and then coasting
-// is the slower of the two here, so the QSS holds the limit.
+// the power limit, ~0.07 % of the energy), and so spends the rest of it over the whole lap; full
+// power until the pack is empty would end it at 0. (Measured: 124.0 s, 9.7 kJ left.) Spending the
+// pack first and then coasting is the slower of the two here, so the QSS holds the limit.
 TEST_F(QssPackTest, ASmallPackSpreadsItsEnergyOverTheLap) {
   const Vehicle full = Bike();
   const Vehicle small = Bike({"battery.cell_energy_j=10000", "battery.energy_density_j_per_kg=9600"});
