@@ -57,7 +57,7 @@ void Run(const char* solver, const ttz::lap::Vehicle& v, const ttz::lap::RoadTra
 int main(int argc, char** argv) {
   using namespace ttz::lap;
   if (argc < 5) {
-    std::fprintf(stderr, "usage: lap_bench ROAD.h5 BIKE.yaml DS_M LENGTH_M [indirect|ipopt|both] [DT_MAX_S]\n");
+    std::fprintf(stderr, "usage: lap_bench ROAD.h5 BIKE.yaml DS_M LENGTH_M [indirect|ipopt|both] [DT_MAX_S] [EPS_START]\n");
     return 2;
   }
   ttz::SetLogLevel(1);
@@ -76,7 +76,9 @@ int main(int argc, char** argv) {
               "resim_x%", "worst");
   if (which != "ipopt")
     Run("indirect", v, road, mesh.size(), [&](SolveSummary* s) {
-      return SolveIndirect(v, road, mesh, qss.x, {}, qss.u, IndirectOptions{}, s);
+      IndirectOptions o;
+      if (argc > 7) o.eps_start = std::stod(argv[7]);
+      return SolveIndirect(v, road, mesh, qss.x, {}, qss.u, o, s);
     });
   if (which != "indirect")
     Run("ipopt", v, road, mesh.size(), [&](SolveSummary* s) {

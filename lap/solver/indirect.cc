@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include <Eigen/Sparse>
-#include <Eigen/SparseLU>
+#include <Eigen/UmfPackSupport>
 
 #include "common/log.h"
 #include "lap/solver/node.h"
@@ -16,6 +16,11 @@
 
 namespace ttz::lap {
 namespace {
+
+// The sparse LU of the square systems (J, and J bordered by the tangent): UMFPACK (SuiteSparse).
+// On the 300 m bend road of oracle_test a 5-iteration corrector took 0.49 s with it, 1.18 s with
+// Eigen's SparseLU and 4.0 s with KLU (the bordered row and column are dense; docs/lap.md).
+using SquareLU = Eigen::UmfPackLU<Eigen::SparseMatrix<double>>;
 
 // Stops Ceres once the residual norm is below the tolerance.
 class StopAtTolerance : public ceres::IterationCallback {
@@ -137,7 +142,7 @@ bool SolveBordered(const Eigen::SparseMatrix<double>& J, const Eigen::VectorXd& 
   Eigen::SparseMatrix<double> A(n + 1, n + 1);
   A.setFromTriplets(t.begin(), t.end());
   A.makeCompressed();
-  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(A);
+  SquareLU lu(A);
   if (lu.info() != Eigen::Success) return false;
   *x = lu.solve(b);
   return x->allFinite();
@@ -154,7 +159,7 @@ bool NewtonAtFixedEps(CurveSystem* sys, Transcription* tr, double eps, double to
     *max_residual = F.lpNorm<Eigen::Infinity>();
     if (*max_residual <= tol) return true;
     if (*its == max_its) return false;
-    Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(J);
+    SquareLU lu(J);
     if (lu.info() != Eigen::Success) return false;
     v -= lu.solve(F);
     tr->KeepControlsAsStarts();
@@ -178,7 +183,7 @@ bool TraceCurve(const IndirectOptions& options, Transcription* tr, ceres::Proble
   y[n] = std::log(eps0);
   if (!sys.Evaluate(eps0, &F, &J, &Fp)) return false;
   {  // the tangent towards smaller eps: J dv/dp = -F_p
-    Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(J);
+    SquareLU lu(J);
     if (lu.info() != Eigen::Success) return false;
     const Eigen::VectorXd minus_fp = -Fp;
     t.head(n) = -lu.solve(minus_fp);
