@@ -441,6 +441,24 @@ std::string Verdict(const IndirectOptions& options, const Continuation& c,
   return why.str();
 }
 
+// The continuation from the unknowns in `tr`. From a guess without costates the first solve is of
+// the midpoints' barriers alone: the quasi-steady guess sits on its limits, where a node barrier's
+// gradient is 2 / delta, and as a jump of the costates between two midpoints it would drive the
+// first solve's controls far off (the midpoints see it spread over an interval). The continuation
+// proper starts from that answer; without one it does not start.
+Continuation SolveFrom(const IndirectOptions& options, bool from_guess, Transcription* tr,
+                       ceres::Problem* problem, SolveSummary* summary) {
+  if (tr->node_barriers && from_guess) {
+    IndirectOptions midpoints = options;
+    midpoints.eps_end = options.eps_start;
+    tr->node_barriers = false;
+    const Continuation first = RunContinuation(midpoints, tr, problem, summary);
+    tr->node_barriers = true;
+    if (first.good.empty()) return first;
+  }
+  return RunContinuation(options, tr, problem, summary);
+}
+
 }  // namespace
 
 LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
@@ -461,18 +479,24 @@ LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
 
   summary->steps.clear();
   summary->iterations = 0;
-  if (tr.node_barriers && lambda_guess.empty()) {
-    // The quasi-steady guess sits on its limits, where a node barrier's gradient is 2 / delta: as
-    // a jump of the costates between two midpoints it would drive the first solve's controls
-    // far off (the midpoints see it spread over an interval). So the first solve is of the
-    // midpoints' barriers alone; the continuation proper starts from its answer.
-    IndirectOptions midpoints = options;
-    midpoints.eps_end = options.eps_start;
-    tr.node_barriers = false;
-    RunContinuation(midpoints, &tr, &problem, summary);
-    tr.node_barriers = true;
+  const bool from_guess = lambda_guess.empty();
+  const std::vector<double> w_guess = tr.w;
+  const std::vector<NodeData> mids_guess = tr.mids;
+  Continuation c = SolveFrom(options, from_guess, &tr, &problem, summary);
+  std::ostringstream retried;
+  if (c.good.empty() && options.retry_eps_start > 0.0 &&
+      options.retry_eps_start < options.eps_start) {
+    retried << "first step failed at eps " << options.eps_start << ", retried from the guess; ";
+    std::ostringstream o;
+    o << "the first step at eps " << options.eps_start << " failed: again from the guess at eps "
+      << options.retry_eps_start;
+    Log(LogKind::kInfo, o.str());
+    tr.w = w_guess;
+    tr.mids = mids_guess;
+    IndirectOptions retry = options;
+    retry.eps_start = options.retry_eps_start;
+    c = SolveFrom(retry, from_guess, &tr, &problem, summary);
   }
-  const Continuation c = RunContinuation(options, &tr, &problem, summary);
   if (!c.good.empty()) tr.weight = WeightFor(c.good.back().eps);
   LapSolution sol = NodeSolution(v, tr, summary);
   sol.eps = tr.weight.eps;
@@ -480,6 +504,7 @@ LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
   summary->max_residual = c.max_all;
   summary->max_state_defect = c.max_state;
   summary->message = Verdict(options, c, *summary);
+  if (!summary->message.empty()) summary->message = retried.str() + summary->message;
   summary->converged = summary->message.empty();
   summary->solve_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -18,8 +18,13 @@
 namespace ttz::lap {
 
 struct IndirectOptions {
-  double eps_start = 1.0;        // first barrier weight [1]: 0.1 stalls the first solve on roads
-                                 // with bends, 1 converges (docs/lap.md)
+  double eps_start = 1.0;        // first barrier weight [1]: on 300-400 m roads with bends 0.1
+                                 // stalls the first solve and 1 converges (docs/lap.md)
+  // When the first step at eps_start fails, the solve starts again from the guess at this weight
+  // (0: never). On the 5 km roads (5 m mesh) it is the other way round: the first step at eps 1
+  // ends in a local minimum of the least-squares cost, and from 0.1 the whole continuation
+  // converges (docs/lap.md).
+  double retry_eps_start = 0.1;
   double eps_end = 1e-4;         // last barrier weight [1]
   double eps_factor = 0.7;       // eps_{k+1} = factor eps_k; halved in log on a failed step
   int max_retries = 4;           // failed continuation steps retried with a smaller factor

@@ -40,5 +40,32 @@ TEST(IndirectTest, StraightLevelRoadFromAStandingStart) {
   EXPECT_LT(sol.x.back()[kE], sol.x.front()[kE]);  // the pack discharges
 }
 
+// A first step that fails at eps_start is solved again from the guess at retry_eps_start (the
+// 5 km roads need it, docs/lap.md); here one Ceres iteration per step makes every step fail.
+TEST(IndirectTest, AFailedFirstStepIsRetriedFromTheGuessAtTheRetryWeight) {
+  const Vehicle v = MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml"));
+  const RoadTrack road(StraightRoad(100.0));
+  const std::vector<double> mesh = UniformMesh(road.Length(), 2.0);
+  const QssLap qss = ComputeQss(v, road, mesh);
+  IndirectOptions options;
+  options.max_iterations = 1;
+  const auto weights = [&](const IndirectOptions& o) {
+    SolveSummary summary;
+    SolveIndirect(v, road, mesh, qss.x, {}, qss.u, o, &summary);
+    EXPECT_FALSE(summary.converged);
+    std::vector<double> eps;
+    for (const ContinuationStep& step : summary.steps) {
+      EXPECT_FALSE(step.converged);
+      eps.push_back(step.eps);
+    }
+    return eps;
+  };
+  // Each try's first solve (the midpoints' barriers alone, SolveFrom) fails, so the nodes' does
+  // not start.
+  EXPECT_EQ(weights(options), (std::vector<double>{1.0, 0.1}));
+  options.retry_eps_start = 0.0;
+  EXPECT_EQ(weights(options), (std::vector<double>{1.0}));
+}
+
 }  // namespace
 }  // namespace ttz::lap

@@ -31,14 +31,15 @@ struct OracleCase {
   // than a quarter is a regression.
   double reference_lap_s;
   int ipopt_iterations, indirect_iterations;
+  double ds_m = 2.0;  // uniform mesh [m]
 };
 
-// Solves `road` on a 2 m mesh with both solvers and compares their lap times; returns the indirect
+// Solves `road` on its mesh with both solvers and compares their lap times; returns the indirect
 // solver's answer.
 LapSolution ExpectAgreement(const OracleCase& c) {
   const Vehicle v = MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml"));
   const RoadTrack road(c.road);
-  const std::vector<double> mesh = UniformMesh(road.Length(), 2.0);
+  const std::vector<double> mesh = UniformMesh(road.Length(), c.ds_m);
   const QssLap qss = ComputeQss(v, road, mesh);
   SolveSummary indirect_summary, oracle_summary;
   const LapSolution sol =
@@ -114,11 +115,8 @@ double Bend(double s, double s0, double s1, double radius_m) {
 }
 
 // 5 km of straights, fast sweepers, S-bends, a 20 m hairpin and two tight bends over hills of up
-// to 6 % slope. The indirect solver does not converge here yet (docs/lap.md, "Status": its first
-// step at eps = 1 stalls at a non-zero least-squares minimum), so this guards the oracle alone: a
-// saved reference solution (measured in session 8) of its lap time and iterations on a 5 m mesh,
-// honest and no slower than the QSS lap.
-TEST(OracleTest, MixedRoad5kmIpoptReference) {
+// to 6 % slope.
+RoadArtefact MixedRoad5km() {
   const auto kappa = [](double s) {
     return Bend(s, 400, 560, 80) + Bend(s, 900, 1000, -60) + Bend(s, 1000, 1100, 60) +
            Bend(s, 1500, 1560, 20) + Bend(s, 2200, 2500, -200) + Bend(s, 3000, 3150, 40) +
@@ -127,8 +125,14 @@ TEST(OracleTest, MixedRoad5kmIpoptReference) {
   const auto sigma = [](double s) {
     return 0.04 * std::sin(2 * kPi * s / 1500) + 0.02 * std::sin(2 * kPi * s / 700);
   };
+  return testing::SyntheticRoad(5000.0, 8.0, kappa, sigma);
+}
+
+// The oracle alone on the mixed road, in every ctest run: a saved reference solution (measured in
+// session 8) of its lap time and iterations on a 5 m mesh, honest and no slower than the QSS lap.
+TEST(OracleTest, MixedRoad5kmIpoptReference) {
   const Vehicle v = MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml"));
-  const RoadTrack road(testing::SyntheticRoad(5000.0, 8.0, kappa, sigma));
+  const RoadTrack road(MixedRoad5km());
   const std::vector<double> mesh = UniformMesh(road.Length(), 5.0);
   const QssLap qss = ComputeQss(v, road, mesh);
   SolveSummary summary;
@@ -142,6 +146,15 @@ TEST(OracleTest, MixedRoad5kmIpoptReference) {
   EXPECT_LT(sol.lap_time, qss.lap_time);
   EXPECT_NEAR(sol.lap_time, 159.242, 1e-4 * 159.242);
   EXPECT_LE(summary.iterations, 1.25 * 87);
+}
+
+// Both solvers on the mixed road (5 m mesh). The indirect solver's first step fails at eps = 1
+// and converges from the guess at eps = 0.1 (IndirectOptions::retry_eps_start). Measured in
+// session 10: indirect 159.304 s at eps 1e-4 (+0.039 %), 159.279 s extrapolated (+0.023 %), 493
+// iterations, 1179 s with other work on the machine. Too long for ctest: `make -C bench oracle`
+// runs it (docs/lap.md).
+TEST(OracleTest, DISABLED_MixedRoad5kmAgreement) {
+  ExpectAgreement({"mixed road, 5 km", MixedRoad5km(), 5e-4, 159.242, 87, 493, 5.0});
 }
 
 }  // namespace
