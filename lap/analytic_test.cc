@@ -11,21 +11,17 @@
 #include <string>
 #include <vector>
 
-#include "lap/bike.h"
-#include "lap/mesh.h"
 #include "lap/model/constraints.h"
 #include "lap/model/dynamics.h"
-#include "lap/qss.h"
 #include "lap/solver/ipopt_direct.h"
+#include "lap/testing/problem.h"
 #include "lap/testing/synthetic_road.h"
 
 namespace ttz::lap {
 namespace {
 
-Vehicle Bike(const std::vector<std::string>& overrides = {}) {
-  return MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml", overrides));
-}
-
+using testing::Bx15;
+using testing::MeshedRoad;
 using testing::SyntheticRoad;
 using testing::Zero;
 
@@ -151,10 +147,8 @@ double TopSpeed(const Vehicle& v, double T, double e, double sigma = 0.0) {
 }
 
 TEST(AnalyticTest, StraightLevelRoadAcceleratesLikeTheLongitudinalIntegration) {
-  const Vehicle v = Bike();
-  const RoadTrack road(SyntheticRoad(300.0, 8.0, Zero, Zero));
-  const std::vector<double> mesh = UniformMesh(road.Length(), 2.0);
-  const QssLap qss = ComputeQss(v, road, mesh);
+  const Vehicle v = Bx15();
+  const auto& [road, mesh, qss] = MeshedRoad(v, SyntheticRoad(300.0, 8.0, Zero, Zero), 2.0);
   SolveSummary summary;
   const LapSolution sol = Solve(v, road, mesh, qss, &summary);
   ASSERT_NO_FATAL_FAILURE(ExpectHonest(sol, summary, qss));
@@ -191,11 +185,9 @@ TEST(AnalyticTest, StraightLevelRoadAcceleratesLikeTheLongitudinalIntegration) {
 // With the pack's power limit at 40 kW the top speed (48.4 m/s) is power-limited; the bike starts
 // at it.
 TEST(AnalyticTest, PowerLimitedTopSpeedHoldsTheIntegration) {
-  Vehicle v = Bike({"battery.power_max_w=40000"});
+  Vehicle v = Bx15({"battery.power_max_w=40000"});
   v.V0 = TopSpeed(v, v.T0, v.e0);
-  const RoadTrack road(SyntheticRoad(500.0, 8.0, Zero, Zero));
-  const std::vector<double> mesh = UniformMesh(road.Length(), 4.0);
-  const QssLap qss = ComputeQss(v, road, mesh);
+  const auto& [road, mesh, qss] = MeshedRoad(v, SyntheticRoad(500.0, 8.0, Zero, Zero), 4.0);
   SolveSummary summary;
   const LapSolution sol = Solve(v, road, mesh, qss, &summary);
   ASSERT_NO_FATAL_FAILURE(ExpectHonest(sol, summary, qss));
@@ -273,7 +265,7 @@ TurnVector SteadyTurn(const Vehicle& v, const RoadPoint& road, double n) {
 TEST(AnalyticTest, ConstantRadiusCircleSettlesInTheModelsSteadyTurn) {
   const double radius = 60.0, width = 8.0;
   const RoadTrack road(SyntheticRoad(600.0, width, [&](double) { return 1.0 / radius; }, Zero));
-  Vehicle v = Bike();
+  Vehicle v = Bx15();
   // A left turn (model frame: kappa < 0, inside n < 0): the optimum rides on the inner border.
   const double n_inside = -(0.5 * width - v.border_margin);
   const TurnVector steady = SteadyTurn(v, road.At(300.0), n_inside);
@@ -373,13 +365,12 @@ EnergyBook Book(const Vehicle& v, const RoadTrack& road, const LapSolution& sol)
 
 TEST(AnalyticTest, ClimbUsesTheEnergyOfItsWorkThroughTheChain) {
   const double sigma = std::atan(0.05);  // 5 %
-  const RoadTrack road(SyntheticRoad(500.0, 8.0, Zero, [&](double) { return sigma; }));
   // At 40 kW from the speed the pack's power holds on the climb, the work is mostly M g dz,
   // drag and rolling.
-  Vehicle v = Bike({"battery.power_max_w=40000"});
+  Vehicle v = Bx15({"battery.power_max_w=40000"});
   v.V0 = TopSpeed(v, v.T0, v.e0, sigma);
-  const std::vector<double> mesh = UniformMesh(road.Length(), 4.0);
-  const QssLap qss = ComputeQss(v, road, mesh);
+  const auto& [road, mesh, qss] =
+      MeshedRoad(v, SyntheticRoad(500.0, 8.0, Zero, [&](double) { return sigma; }), 4.0);
   SolveSummary summary;
   const LapSolution sol = Solve(v, road, mesh, qss, &summary);
   ASSERT_NO_FATAL_FAILURE(ExpectHonest(sol, summary, qss));
@@ -406,9 +397,9 @@ TEST(AnalyticTest, PackTooSmallMakesTheChargeActiveAndTheLapSlower) {
   // The full pack spends ~0.42 MJ of its 51 MJ on this road. The small one holds 0.24 MJ in 96
   // cells of 2.5 kJ, as heavy as the full pack (its energy density scaled with it): only the energy
   // differs.
-  const Vehicle full = Bike();
+  const Vehicle full = Bx15();
   const Vehicle small =
-      Bike({"battery.cell_energy_j=2500", "battery.energy_density_j_per_kg=2400"});
+      Bx15({"battery.cell_energy_j=2500", "battery.energy_density_j_per_kg=2400"});
   ASSERT_DOUBLE_EQ(small.M, full.M);
   ASSERT_DOUBLE_EQ(small.pack.e_i, 0.24e6);
   SolveSummary summary[2];
@@ -448,11 +439,9 @@ TEST(AnalyticTest, OptimalLapIsNoSlowerThanTheQssLapOnBendsAndSlopes) {
                       return std::clamp(std::min(s - 60.0, 130.0 - s) / 10.0, 0.0, 1.0) / 15.0;
                     },
                     [&](double) { return std::atan(-0.06); })};
-  const Vehicle v = Bike();
+  const Vehicle v = Bx15();
   for (const RoadArtefact& r : roads) {
-    const RoadTrack road(r);
-    const std::vector<double> mesh = UniformMesh(road.Length(), 2.0);
-    const QssLap qss = ComputeQss(v, road, mesh);
+    const auto& [road, mesh, qss] = MeshedRoad(v, r, 2.0);
     SolveSummary summary;
     const LapSolution sol = Solve(v, road, mesh, qss, &summary);
     ASSERT_NO_FATAL_FAILURE(ExpectHonest(sol, summary, qss));

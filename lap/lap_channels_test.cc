@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "lap/bike.h"
+#include "lap/testing/problem.h"
 
 namespace ttz::lap {
 namespace {
@@ -15,7 +15,7 @@ constexpr double kRadius = 50.0;  // [m]
 constexpr int kNodes = 5;
 constexpr double kSpacing = 10.0;  // [m]
 
-Vehicle Bx15() { return MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml")); }
+using testing::Bx15;
 
 // A level left-hand circle of radius kRadius (road.h5: kappa > 0 turning left).
 RoadTrack LeftCircle() {

@@ -8,16 +8,13 @@
 #include <string>
 #include <vector>
 
-#include "lap/bike.h"
-#include "lap/mesh.h"
+#include "lap/testing/problem.h"
 #include "lap/testing/synthetic_road.h"
 
 namespace ttz::lap {
 namespace {
 
-Vehicle Bike(const std::vector<std::string>& overrides = {}) {
-  return MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml", overrides));
-}
+using testing::Bx15;
 
 // A 3 km straight level road, on which the full pack spends 4.85 MJ at full power (55.6 s).
 class QssPackTest : public ::testing::Test {
@@ -27,7 +24,7 @@ class QssPackTest : public ::testing::Test {
 };
 
 TEST_F(QssPackTest, AFullPackRunsAtFullPower) {
-  const Vehicle v = Bike();
+  const Vehicle v = Bx15();
   const QssLap q = ComputeQss(v, road, mesh);
   // Measured (session 8): 55.6054 s, 4.854 MJ; a limit below the pack's power would be slower and
   // spend less.
@@ -41,8 +38,8 @@ TEST_F(QssPackTest, AFullPackRunsAtFullPower) {
 // power until the pack is empty would end it at 0. (Measured: 124.0 s, 9.7 kJ left.) Spending the
 // pack first and then coasting is the slower of the two here, so the QSS holds the limit.
 TEST_F(QssPackTest, ASmallPackSpreadsItsEnergyOverTheLap) {
-  const Vehicle full = Bike();
-  const Vehicle small = Bike({"battery.cell_energy_j=10000", "battery.energy_density_j_per_kg=9600"});
+  const Vehicle full = Bx15();
+  const Vehicle small = Bx15({"battery.cell_energy_j=10000", "battery.energy_density_j_per_kg=9600"});
   ASSERT_DOUBLE_EQ(small.M, full.M);
   const QssLap q_full = ComputeQss(full, road, mesh);
   const QssLap q = ComputeQss(small, road, mesh);
@@ -63,7 +60,7 @@ TEST_F(QssPackTest, ASmallPackSpreadsItsEnergyOverTheLap) {
 TEST(QssSprintTest, SpendingThePackFirstWinsOnASprint) {
   const RoadTrack road(testing::StraightRoad(200.0));
   const std::vector<double> mesh = UniformMesh(road.Length(), 4.0);
-  const Vehicle small = Bike({"battery.cell_energy_j=2500", "battery.energy_density_j_per_kg=2400"});
+  const Vehicle small = Bx15({"battery.cell_energy_j=2500", "battery.energy_density_j_per_kg=2400"});
   const QssLap q = ComputeQss(small, road, mesh);
   EXPECT_LT(q.x.back()[kE], 0.01 * small.e0);
   // Empty but for the idle draw of the coast (qss.cc; measured -143 J).

@@ -8,18 +8,16 @@
 #include <algorithm>
 #include <cmath>
 
-#include "lap/bike.h"
-#include "lap/mesh.h"
 #include "lap/model/dynamics.h"
-#include "lap/qss.h"
 #include "lap/solver/ipopt_direct.h"
+#include "lap/testing/problem.h"
 #include "lap/testing/synthetic_road.h"
 
 namespace ttz::lap {
 namespace {
 
 const Vehicle& Bike() {
-  static const Vehicle v = MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml"));
+  static const Vehicle v = testing::Bx15();
   return v;
 }
 
@@ -111,9 +109,7 @@ TEST(ResimulateTest, ASolutionWithoutStatesFails) {
 // launch at 5 m/s, where the trapezoidal rule over-estimates the time of the first metres; it
 // grows as the mesh squared (0.125 % at 2 m: that mesh fails on this road).
 TEST(ResimulateTest, TheIpoptLapOfAShortStraightPasses) {
-  const RoadTrack road(StraightRoad(200.0));
-  const std::vector<double> mesh = UniformMesh(road.Length(), 1.0);
-  const QssLap qss = ComputeQss(Bike(), road, mesh);
+  const auto& [road, mesh, qss] = testing::MeshedRoad(Bike(), StraightRoad(200.0), 1.0);
   SolveSummary summary;
   const LapSolution sol = SolveDirectIpopt(Bike(), road, mesh, qss.x, qss.u, IpoptOptions{}, &summary);
   ASSERT_TRUE(summary.converged) << summary.message;

@@ -5,17 +5,15 @@
 
 #include <cmath>
 
-#include "lap/bike.h"
 #include "lap/model/constraints.h"
 #include "lap/model/dynamics.h"
 #include "lap/model/vehicle.h"
+#include "lap/testing/problem.h"
 
 namespace ttz::lap {
 namespace {
 
-Vehicle Bx15() {
-  return MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml"));
-}
+using testing::Bx15;
 
 RoadPoint Curvy() {
   RoadPoint r;

@@ -7,21 +7,19 @@
 
 #include <algorithm>
 
-#include "lap/bike.h"
-#include "lap/mesh.h"
-#include "lap/qss.h"
+#include "lap/testing/problem.h"
 #include "lap/testing/synthetic_road.h"
 
 namespace ttz::lap {
 namespace {
 
+using testing::Bx15;
+using testing::MeshedRoad;
 using testing::StraightRoad;
 
 TEST(IndirectTest, StraightLevelRoadFromAStandingStart) {
-  const Vehicle v = MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml"));
-  const RoadTrack road(StraightRoad(300.0));
-  const std::vector<double> mesh = UniformMesh(road.Length(), 2.0);
-  const QssLap qss = ComputeQss(v, road, mesh);
+  const Vehicle v = Bx15();
+  const auto& [road, mesh, qss] = MeshedRoad(v, StraightRoad(300.0), 2.0);
   SolveSummary summary;
   const LapSolution sol =
       SolveIndirect(v, road, mesh, qss.x, {}, qss.u, IndirectOptions{}, &summary);
@@ -43,15 +41,13 @@ TEST(IndirectTest, StraightLevelRoadFromAStandingStart) {
 // A first step that fails at eps_start is solved again from the guess at retry_eps_start (the
 // 5 km roads need it, docs/lap.md); here one Ceres iteration per step makes every step fail.
 TEST(IndirectTest, AFailedFirstStepIsRetriedFromTheGuessAtTheRetryWeight) {
-  const Vehicle v = MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml"));
-  const RoadTrack road(StraightRoad(100.0));
-  const std::vector<double> mesh = UniformMesh(road.Length(), 2.0);
-  const QssLap qss = ComputeQss(v, road, mesh);
+  const Vehicle v = Bx15();
+  const MeshedRoad p(v, StraightRoad(100.0), 2.0);
   IndirectOptions options;
   options.max_iterations = 1;
   const auto weights = [&](const IndirectOptions& o) {
     SolveSummary summary;
-    SolveIndirect(v, road, mesh, qss.x, {}, qss.u, o, &summary);
+    SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, o, &summary);
     EXPECT_FALSE(summary.converged);
     std::vector<double> eps;
     for (const ContinuationStep& step : summary.steps) {

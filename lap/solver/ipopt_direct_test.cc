@@ -9,16 +9,18 @@
 #include <cmath>
 #include <random>
 
-#include "lap/bike.h"
-#include "lap/mesh.h"
 #include "lap/model/constraints.h"
-#include "lap/qss.h"
 #include "lap/solver/direct_node.h"
 #include "lap/solver/indirect.h"
+#include "lap/testing/problem.h"
 #include "lap/testing/synthetic_road.h"
 
 namespace ttz::lap {
 namespace {
+
+using testing::Bx15;
+using testing::MeshedRoad;
+using testing::StraightRoad;
 
 // Ipopt with the constraints at the midpoints only (what the nodes change).
 IpoptOptions MidpointsOnly() {
@@ -30,7 +32,7 @@ IpoptOptions MidpointsOnly() {
 // A node in a right-hand bend on a climbing, twisting road, at a state off any steady state and
 // controls near the tyre's limit, with a random (seeded) perturbation.
 struct NodeFixture {
-  Vehicle v = MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml"));
+  Vehicle v = Bx15();
   DirectNode node{&v, DefaultScales(v), RoadPoint{}};
   NodePoint z;
   NodeFixture() {
@@ -114,8 +116,6 @@ TEST(IpoptDirectTest, NodeConstraintJacobianAndHessianMatchCentralDifferences) {
       });
 }
 
-using testing::StraightRoad;
-
 // The largest g_j over the nodes 1..N of a lap (node 0 is the given start).
 double WorstNodeViolation(const Vehicle& v, const RoadTrack& road, const LapSolution& sol) {
   double worst = -HUGE_VAL;
@@ -129,22 +129,26 @@ double WorstNodeViolation(const Vehicle& v, const RoadTrack& road, const LapSolu
 // two midpoints where they bind (measured 4-6 %); with the node constraints (the default) no node
 // is over, at a lap a little slower.
 TEST(IpoptDirectTest, NodeConstraintsKeepEveryNodeWithinItsLimits) {
-  const Vehicle v = MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml"));
-  const RoadTrack road(testing::SyntheticRoad(
-      300.0, 8.0,
-      [](double s) {
-        return std::min({1.0, std::max(0.0, (s - 100.0) / 20.0), std::max(0.0, (220.0 - s) / 20.0)}) / 50.0;
-      },
-      testing::Zero));
-  const std::vector<double> mesh = UniformMesh(road.Length(), 2.0);
-  const QssLap qss = ComputeQss(v, road, mesh);
+  const Vehicle v = Bx15();
+  const MeshedRoad p(v,
+                     testing::SyntheticRoad(
+                         300.0, 8.0,
+                         [](double s) {
+                           return std::min({1.0, std::max(0.0, (s - 100.0) / 20.0),
+                                            std::max(0.0, (220.0 - s) / 20.0)}) / 50.0;
+                         },
+                         testing::Zero),
+                     2.0);
+  const auto solve = [&](const IpoptOptions& options, SolveSummary* summary) {
+    return SolveDirectIpopt(v, p.road, p.mesh, p.qss.x, p.qss.u, options, summary);
+  };
   SolveSummary nodes_summary, mid_summary;
-  const LapSolution nodes = SolveDirectIpopt(v, road, mesh, qss.x, qss.u, IpoptOptions{}, &nodes_summary);
-  const LapSolution mid = SolveDirectIpopt(v, road, mesh, qss.x, qss.u, MidpointsOnly(), &mid_summary);
+  const LapSolution nodes = solve(IpoptOptions{}, &nodes_summary);
+  const LapSolution mid = solve(MidpointsOnly(), &mid_summary);
   ASSERT_TRUE(nodes_summary.converged) << nodes_summary.message;
   ASSERT_TRUE(mid_summary.converged) << mid_summary.message;
-  EXPECT_GT(WorstNodeViolation(v, road, mid), 1e-2);
-  EXPECT_LE(WorstNodeViolation(v, road, nodes), 1e-4);
+  EXPECT_GT(WorstNodeViolation(v, p.road, mid), 1e-2);
+  EXPECT_LE(WorstNodeViolation(v, p.road, nodes), 1e-4);
   EXPECT_GE(nodes.lap_time, mid.lap_time - 1e-6);
   EXPECT_LT(nodes.lap_time, mid.lap_time * 1.005);
   std::cout << "bend: midpoints only " << mid.lap_time << " s (" << mid_summary.iterations
@@ -158,10 +162,8 @@ TEST(IpoptDirectTest, NodeConstraintsKeepEveryNodeWithinItsLimits) {
 // (10.854 s against 10.945 s; 0.6 % at a 0.5 m mesh): under the motor-current limit the smaller
 // rolling radius of the leaned tyre (tyre.h, R_e) gears the wheel down.
 TEST(IpoptDirectTest, StraightLevelRoadAgreesWithTheIndirectSolver) {
-  const Vehicle v = MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml"));
-  const RoadTrack road(StraightRoad(300.0));
-  const std::vector<double> mesh = UniformMesh(road.Length(), 2.0);
-  const QssLap qss = ComputeQss(v, road, mesh);
+  const Vehicle v = Bx15();
+  const auto& [road, mesh, qss] = MeshedRoad(v, StraightRoad(300.0), 2.0);
   SolveSummary summary;
   const LapSolution sol = SolveDirectIpopt(v, road, mesh, qss.x, qss.u, MidpointsOnly(), &summary);
   ASSERT_TRUE(summary.converged) << summary.message;

@@ -7,13 +7,13 @@
 
 #include <cmath>
 
-#include "lap/bike.h"
+#include "lap/testing/problem.h"
 
 namespace ttz::lap {
 namespace {
 
 TEST(NodeBarrierTest, GradientAndHessianMatchCentralDifferences) {
-  const Vehicle v = MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml"));
+  const Vehicle v = testing::Bx15();
   const Scales sc = DefaultScales(v);
   RoadPoint road;
   road.kappa = 0.01;
@@ -50,7 +50,7 @@ TEST(NodeBarrierTest, GradientAndHessianMatchCentralDifferences) {
 }
 
 TEST(NodeBarrierTest, UndefinedWhereTheModelIs) {
-  const Vehicle v = MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml"));
+  const Vehicle v = testing::Bx15();
   const Scales sc = DefaultScales(v);
   RoadPoint road;
   road.width = 8.0;

@@ -7,13 +7,13 @@
 
 #include <cmath>
 
-#include "lap/bike.h"
+#include "lap/testing/problem.h"
 
 namespace ttz::lap {
 namespace {
 
 struct Fixture {
-  Vehicle v = MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml"));
+  Vehicle v = testing::Bx15();
   Scales sc = DefaultScales(v);
   RoadPoint road;
   BarrierWeight w{0.1, 1e-3};

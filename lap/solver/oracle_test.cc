@@ -10,11 +10,9 @@
 #include <cmath>
 #include <iostream>
 
-#include "lap/bike.h"
-#include "lap/mesh.h"
-#include "lap/qss.h"
 #include "lap/solver/indirect.h"
 #include "lap/solver/ipopt_direct.h"
+#include "lap/testing/problem.h"
 #include "lap/testing/synthetic_road.h"
 
 namespace ttz::lap {
@@ -37,10 +35,8 @@ struct OracleCase {
 // Solves `road` on its mesh with both solvers and compares their lap times; returns the indirect
 // solver's answer.
 LapSolution ExpectAgreement(const OracleCase& c) {
-  const Vehicle v = MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml"));
-  const RoadTrack road(c.road);
-  const std::vector<double> mesh = UniformMesh(road.Length(), c.ds_m);
-  const QssLap qss = ComputeQss(v, road, mesh);
+  const Vehicle v = testing::Bx15();
+  const auto& [road, mesh, qss] = testing::MeshedRoad(v, c.road, c.ds_m);
   SolveSummary indirect_summary, oracle_summary;
   const LapSolution sol =
       SolveIndirect(v, road, mesh, qss.x, {}, qss.u, IndirectOptions{}, &indirect_summary);
@@ -131,10 +127,8 @@ RoadArtefact MixedRoad5km() {
 // The oracle alone on the mixed road, in every ctest run: a saved reference solution (measured in
 // session 8) of its lap time and iterations on a 5 m mesh, honest and no slower than the QSS lap.
 TEST(OracleTest, MixedRoad5kmIpoptReference) {
-  const Vehicle v = MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml"));
-  const RoadTrack road(MixedRoad5km());
-  const std::vector<double> mesh = UniformMesh(road.Length(), 5.0);
-  const QssLap qss = ComputeQss(v, road, mesh);
+  const Vehicle v = testing::Bx15();
+  const auto& [road, mesh, qss] = testing::MeshedRoad(v, MixedRoad5km(), 5.0);
   SolveSummary summary;
   const LapSolution sol = SolveDirectIpopt(v, road, mesh, qss.x, qss.u, IpoptOptions{}, &summary);
   std::cout << "mixed road, 5 km: Ipopt " << sol.lap_time << " s, " << summary.iterations

@@ -9,9 +9,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "lap/bike.h"
-#include "lap/mesh.h"
-#include "lap/qss.h"
+#include "lap/testing/problem.h"
 #include "lap/testing/synthetic_road.h"
 
 namespace ttz::lap {
@@ -25,15 +23,16 @@ std::array<double, kW> Residual(Transcription* tr, int k) {
 }
 
 TEST(TranscriptionTest, IntervalJacobiansMatchCentralDifferences) {
-  const Vehicle v = MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml"));
-  const RoadTrack road(testing::SyntheticRoad(
-      60.0, 8.0, [](double s) { return s > 20.0 ? 0.02 : 0.0; }, [](double) { return 0.03; }));
-  const std::vector<double> mesh = UniformMesh(road.Length(), 2.0);
-  const QssLap qss = ComputeQss(v, road, mesh);
-  std::vector<StateVector<double>> lambda(mesh.size());
-  for (size_t k = 0; k < mesh.size(); ++k)
+  const Vehicle v = testing::Bx15();
+  const testing::MeshedRoad p(v,
+                              testing::SyntheticRoad(
+                                  60.0, 8.0, [](double s) { return s > 20.0 ? 0.02 : 0.0; },
+                                  [](double) { return 0.03; }),
+                              2.0);
+  std::vector<StateVector<double>> lambda(p.mesh.size());
+  for (size_t k = 0; k < p.mesh.size(); ++k)
     for (int i = 0; i < kNumStates; ++i) lambda[k][i] = 0.01 * std::sin(1.0 + k + 3.0 * i);
-  Transcription tr = MakeTranscription(v, road, mesh, qss.x, lambda, qss.u, 1);
+  Transcription tr = MakeTranscription(v, p.road, p.mesh, p.qss.x, lambda, p.qss.u, 1);
   tr.weight = {0.1, 1e-3};
   for (int k : {0, 12, 28, 29}) {  // 29: the last interval, with all of node N's barrier
     tr.EvaluateMids(true);
