@@ -2,7 +2,8 @@
 // fits): both solvers from the QSS guess on the mesh of `lap --ds DS_M --dt-max DT_MAX_S` (lap/mesh.h)
 // from 0 to LENGTH_M, printing lap time, convergence, iterations, wall time, time per iteration,
 // CPU time (all threads) per iteration and node, peak memory and the re-simulation check's
-// lap-time and largest state difference (not a test). CPU time per iteration and node is the
+// lap-time and largest state difference (not a test). KEY=VALUE arguments after EPS_START override
+// bike.yaml values as `lap --set` does. CPU time per iteration and node is the
 // figure to compare across meshes: other processes sharing the machine do not count in it.
 #include <sys/resource.h>
 
@@ -57,11 +58,11 @@ void Run(const char* solver, const ttz::lap::Vehicle& v, const ttz::lap::RoadTra
 int main(int argc, char** argv) {
   using namespace ttz::lap;
   if (argc < 5) {
-    std::fprintf(stderr, "usage: lap_bench ROAD.h5 BIKE.yaml DS_M LENGTH_M [indirect|ipopt|both] [DT_MAX_S] [EPS_START]\n");
+    std::fprintf(stderr, "usage: lap_bench ROAD.h5 BIKE.yaml DS_M LENGTH_M [indirect|ipopt|both] [DT_MAX_S] [EPS_START] [KEY=VALUE ...]\n");
     return 2;
   }
   ttz::SetLogLevel(1);
-  const Vehicle v = MakeVehicle(LoadBike(argv[2]));
+  const Vehicle v = MakeVehicle(LoadBike(argv[2], std::vector<std::string>(argv + std::min(argc, 8), argv + argc)));
   const RoadTrack road(ttz::ReadRoad(argv[1]));
   MeshOptions mesh_options;
   mesh_options.ds_m = std::stod(argv[3]);

@@ -8,19 +8,14 @@
 #include <sstream>
 
 #include <Eigen/Sparse>
-#include <Eigen/UmfPackSupport>
 
 #include "common/log.h"
 #include "lap/solver/node.h"
+#include "lap/solver/sparse_lu.h"
 #include "lap/solver/transcription.h"
 
 namespace ttz::lap {
 namespace {
-
-// The sparse LU of the square systems (J, and J bordered by the tangent): UMFPACK (SuiteSparse).
-// On the 300 m bend road of oracle_test a 5-iteration corrector took 0.49 s with it, 1.18 s with
-// Eigen's SparseLU and 4.0 s with KLU (the bordered row and column are dense; docs/lap.md).
-using SquareLU = Eigen::UmfPackLU<Eigen::SparseMatrix<double>>;
 
 // Stops Ceres once the residual norm is below the tolerance.
 class StopAtTolerance : public ceres::IterationCallback {
@@ -103,11 +98,9 @@ class CurveSystem {
     *F = Eigen::Map<Eigen::VectorXd>(r.data(), static_cast<Eigen::Index>(r.size()));
     if (!F->allFinite()) return false;
     if (J == nullptr) return true;
-    std::vector<Eigen::Triplet<double>> t;
-    for (int i = 0; i < crs.num_rows; ++i)
-      for (int j = crs.rows[i]; j < crs.rows[i + 1]; ++j) t.emplace_back(i, crs.cols[j], crs.values[j]);
-    J->resize(crs.num_rows, crs.num_cols);
-    J->setFromTriplets(t.begin(), t.end());
+    *J = Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor>>(
+        crs.num_rows, crs.num_cols, static_cast<Eigen::Index>(crs.values.size()), crs.rows.data(),
+        crs.cols.data(), crs.values.data());
     J->makeCompressed();
     constexpr double hp = 1e-6;
     tr_->weight = WeightFor(eps * std::exp(hp));
@@ -125,29 +118,6 @@ class CurveSystem {
   int n_;
 };
 
-// Solves [J Fp; a^T] x = b by sparse LU (not the normal equations: J's condition is not squared).
-bool SolveBordered(const Eigen::SparseMatrix<double>& J, const Eigen::VectorXd& Fp,
-                   const Eigen::VectorXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x) {
-  const Eigen::Index n = J.rows();
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(J.nonZeros() + 2 * n + 1);
-  for (int k = 0; k < J.outerSize(); ++k)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(J, k); it; ++it)
-      t.emplace_back(it.row(), it.col(), it.value());
-  for (Eigen::Index i = 0; i < n; ++i) {
-    if (Fp[i] != 0.0) t.emplace_back(i, n, Fp[i]);
-    if (a[i] != 0.0) t.emplace_back(n, i, a[i]);
-  }
-  t.emplace_back(n, n, a[n]);
-  Eigen::SparseMatrix<double> A(n + 1, n + 1);
-  A.setFromTriplets(t.begin(), t.end());
-  A.makeCompressed();
-  SquareLU lu(A);
-  if (lu.info() != Eigen::Success) return false;
-  *x = lu.solve(b);
-  return x->allFinite();
-}
-
 // Newton with sparse LU at fixed eps from the current unknowns; true when max |F| <= tol.
 bool NewtonAtFixedEps(CurveSystem* sys, Transcription* tr, double eps, double tol, int max_its,
                       double* max_residual, int* its) {
@@ -159,9 +129,9 @@ bool NewtonAtFixedEps(CurveSystem* sys, Transcription* tr, double eps, double to
     *max_residual = F.lpNorm<Eigen::Infinity>();
     if (*max_residual <= tol) return true;
     if (*its == max_its) return false;
-    SquareLU lu(J);
-    if (lu.info() != Eigen::Success) return false;
-    v -= lu.solve(F);
+    Eigen::VectorXd dv;
+    if (!SolveSquare(J, F, &dv)) return false;
+    v -= dv;
     tr->KeepControlsAsStarts();
   }
 }
@@ -183,10 +153,9 @@ bool TraceCurve(const IndirectOptions& options, Transcription* tr, ceres::Proble
   y[n] = std::log(eps0);
   if (!sys.Evaluate(eps0, &F, &J, &Fp)) return false;
   {  // the tangent towards smaller eps: J dv/dp = -F_p
-    SquareLU lu(J);
-    if (lu.info() != Eigen::Success) return false;
-    const Eigen::VectorXd minus_fp = -Fp;
-    t.head(n) = -lu.solve(minus_fp);
+    Eigen::VectorXd dv_dp;
+    if (!SolveSquare(J, -Fp, &dv_dp)) return false;
+    t.head(n) = -dv_dp;
     t[n] = -1.0;
     t.normalize();
   }

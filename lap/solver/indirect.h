@@ -42,7 +42,8 @@ struct IndirectOptions {
   // may overshoot it at the node between them. Off only to compare with an earlier answer.
   bool node_constraints = true;
   // After the first step, follow the solution curve in (unknowns, log eps) by pseudo-arclength
-  // steps (tangent predictor, Newton corrector on the bordered system by sparse LU) instead of
+  // steps (tangent predictor, Newton corrector on the bordered system by block elimination
+  // with the sparse LU of J, or the LU of the bordered matrix where J is singular) instead of
   // shrinking eps with Levenberg-Marquardt. On the first 5 km of the TT course (10 m mesh,
   // eps_start 0.1) the curve is nearly vertical at eps ~3.4e-3 (d log eps / ds ~ 2e-3, the roll
   // weave at s ~2.9 km grows): Levenberg-Marquardt on the normal equations (condition squared,
