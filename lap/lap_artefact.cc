@@ -63,16 +63,19 @@ const ChannelSpec kChannels[] = {
      "power-train efficiency, wheel/power / battery/power; NaN where the pack gives under 0.1 % of P_b^max"},
 };
 
-std::vector<double> Column(const std::vector<StateVector<double>>& rows, int i, double scale = 1.0) {
+// Component i of each row, times `scale`.
+template <size_t N>
+std::vector<double> Column(const std::vector<std::array<double, N>>& rows, size_t i, double scale = 1.0) {
   std::vector<double> c(rows.size());
   for (size_t k = 0; k < rows.size(); ++k) c[k] = rows[k][i] * scale;
   return c;
 }
 
-std::vector<double> Column(const std::vector<ControlVector<double>>& rows, int i) {
-  std::vector<double> c(rows.size());
-  for (size_t k = 0; k < rows.size(); ++k) c[k] = rows[k][i];
-  return c;
+// The interval midpoints of a mesh [m].
+std::vector<double> Midpoints(const std::vector<double>& s) {
+  std::vector<double> mid(s.size() - 1);
+  for (size_t k = 0; k + 1 < s.size(); ++k) mid[k] = 0.5 * (s[k] + s[k + 1]);
+  return mid;
 }
 
 void WriteAlongS(ArtefactWriter& w, const Vehicle& v, const LapSolution& sol, const LapChannels& ch) {
@@ -87,7 +90,10 @@ void WriteAlongS(ArtefactWriter& w, const Vehicle& v, const LapSolution& sol, co
   }
   for (int i = 0; i < kNumControls; ++i) {
     const std::string name = kControlNames[i];
-    w.WriteVector("control/" + name, Column(sol.u, i), kControlUnits[i], "control " + name + " (lap/model/state.h)");
+    w.WriteVector("control/" + name, Column(sol.u, i), kControlUnits[i],
+                  "control " + name + " (lap/model/state.h): the mean of the neighbouring intervals'");
+    w.WriteVector("control_interval/" + name, Column(sol.u_interval, i), kControlUnits[i],
+                  "control " + name + " of each mesh interval, as the transcription holds it");
   }
   for (const ChannelSpec& c : kChannels) w.WriteVector(c.name, ch.*c.member, c.units, c.description);
   for (int j = 0; j < kNumConstraints; ++j)
@@ -220,7 +226,10 @@ WarmStart ReadLapForWarmStart(const std::string& path) {
   ReadRows(r, "state", kStateNames, kStateUnits, n, &ws.x);
   ReadRows(r, "costate", kStateNames, kCostateUnits, n, &ws.lambda);
   ReadRows(r, "control", kControlNames, kControlUnits, n, &ws.u);
+  ReadRows(r, "control_interval", kControlNames, kControlUnits, n - 1, &ws.u_interval);
   ws.eps = r.ReadDoubleAttribute("eps");
+  ws.mesh.ds_m = r.ReadDoubleAttribute("mesh_ds");
+  ws.mesh.dt_max_s = r.ReadDoubleAttribute("mesh_dt_max");
   ws.road_sha256 = r.ReadStringAttribute("road_sha256");
   ws.road_length = r.ReadDoubleAttribute("road_length");
   return ws;
@@ -236,6 +245,8 @@ SolverGuess ResampleWarmStart(const WarmStart& w, const Vehicle& v, const std::v
     g.lambda.push_back(lambda);
     g.u.push_back(Interpolate(w.s, w.u, s));
   }
+  const std::vector<double> from = Midpoints(w.s);
+  for (double s : Midpoints(mesh)) g.u_interval.push_back(Interpolate(from, w.u_interval, s));
   return g;
 }
 

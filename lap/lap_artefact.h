@@ -1,4 +1,4 @@
-// lap.h5: the optimal lap on its arc-length mesh (schema "ttz.lap", version 2), and the part of it
+// lap.h5: the optimal lap on its arc-length mesh (schema "ttz.lap", version 3), and the part of it
 // that warm-starts another solve (`lap --init`). Every dataset, unit and attribute is documented
 // in docs/lap_h5.md.
 #pragma once
@@ -17,7 +17,7 @@
 namespace ttz::lap {
 
 inline constexpr const char* kLapSchema = "ttz.lap";
-inline constexpr int kLapSchemaVersion = 2;  // 2: Omega_z a state, dOmega_z_dt a control
+inline constexpr int kLapSchemaVersion = 3;  // 2: Omega_z a state, dOmega_z_dt a control; 3: control_interval
 
 // What lap.h5 records about the run besides the solution.
 struct LapProvenance {
@@ -42,21 +42,19 @@ struct WarmStart {
   std::vector<StateVector<double>> x;        // states (physical units)
   std::vector<StateVector<double>> lambda;   // costates of the physical states [s per state unit]
   std::vector<ControlVector<double>> u;      // controls (physical units)
+  std::vector<ControlVector<double>> u_interval;  // ... of the mesh intervals (physical units)
   double eps = 0.0;                          // barrier weight of the solution [1]
+  MeshOptions mesh;                          // the options its mesh was built with
   std::string road_sha256;
   double road_length = 0.0;                  // [m]
 };
 
 // Throws ttz::InputError naming the file and the dataset or attribute when the file is missing,
-// is not a ttz.lap version 1 artefact, lacks a dataset or attribute, or its datasets disagree.
+// is not a ttz.lap artefact of kLapSchemaVersion, lacks a dataset or attribute, or its datasets disagree.
 WarmStart ReadLapForWarmStart(const std::string& path);
 
 // The warm start on another mesh, linearly interpolated in s (clamped to the file's range), with
 // the costates scaled as the solver takes them (lap/solver/hamiltonian.h, DefaultScales of v).
-struct SolverGuess {
-  std::vector<StateVector<double>> x, lambda;
-  std::vector<ControlVector<double>> u;
-};
 SolverGuess ResampleWarmStart(const WarmStart& w, const Vehicle& v, const std::vector<double>& mesh);
 
 }  // namespace ttz::lap

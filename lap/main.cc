@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "common/artefact.h"
@@ -57,7 +58,7 @@ void DefineOptions(CLI::App& app, Arguments& a) {
                  "largest duration of a mesh interval at the quasi-steady speed [s]; 0: a uniform mesh (lap/mesh.h)")
       ->check(kNonNegative)
       ->capture_default_str();
-  app.add_option("--init", a.init, "warm start from an earlier lap.h5 of this road (states, costates, barrier weight)");
+  app.add_option("--init", a.init, "warm start from an earlier lap.h5 of this road (states, controls, costates, barrier weight; its mesh when solved with the same --ds and --dt-max)");
   app.add_option("--solver", a.solver, "indirect (Ceres, the default) or ipopt (the direct-transcription oracle)")
       ->check(CLI::IsMember({"indirect", "ipopt"}))
       ->capture_default_str();
@@ -91,20 +92,39 @@ void CheckOutputFolder(const std::string& output) {
     throw ttz::InputError(output, "cannot be written (the folder " + folder.string() + " does not exist)");
 }
 
-// The initial guess from --init: the earlier solution on this mesh, with this bike's fixed
-// initial state at the first node. Continuation starts at the file's barrier weight, or one step
-// above the last weight (eps_end / eps_factor) when the file's solve had finished or had no
-// barrier (Ipopt), so that there are two steps to extrapolate the lap time to eps = 0 from.
-SolverGuess WarmStartGuess(const Arguments& a, const std::string& road_sha256, double road_length,
-                           const Vehicle& v, const std::vector<double>& mesh, const QssLap& qss,
-                           IndirectOptions* options) {
-  const WarmStart ws = ReadLapForWarmStart(a.init);
+// The --init file, checked to be a lap of this road.
+WarmStart ReadInit(const Arguments& a, const std::string& road_sha256, double road_length) {
+  WarmStart ws = ReadLapForWarmStart(a.init);
   if (ws.road_sha256 != road_sha256 && std::abs(ws.road_length - road_length) > 1.0) {
     std::ostringstream o;
     o << "is a lap of another road: its road_sha256 differs from " << a.road << "'s and its road_length "
       << ws.road_length << " m differs from " << road_length << " m by more than 1 m";
     throw ttz::InputError(a.init, o.str());
   }
+  return ws;
+}
+
+// The mesh: the --init lap's own when it is of this very road and was built with these mesh
+// options (its bike may differ, and with it the speeds --dt-max refines for), so that its
+// solution carries over without interpolation; else LapMesh. Interpolating onto another mesh
+// leaves defects in the fast states (omega_w, omega_phi, z_dot) that cost Ipopt more iterations
+// than the warm start saves (docs/lap.md, "Warm starts").
+std::vector<double> SolveMesh(const Arguments& a, const std::optional<WarmStart>& init, const std::string& road_sha256,
+                              const Vehicle& v, const RoadTrack& track) {
+  if (init && init->road_sha256 == road_sha256 && init->mesh.ds_m == a.mesh.ds_m &&
+      init->mesh.dt_max_s == a.mesh.dt_max_s) {
+    ttz::Log(ttz::LogKind::kInfo, "solving on the mesh of " + a.init + " (" + std::to_string(init->s.size()) + " nodes)");
+    return init->s;
+  }
+  return LapMesh(v, track, track.Length(), a.mesh);
+}
+
+// The initial guess from --init: the earlier solution on this mesh, with this bike's fixed
+// initial state at the first node. Continuation starts at the file's barrier weight, or one step
+// above the last weight (eps_end / eps_factor) when the file's solve had finished or had no
+// barrier (Ipopt), so that there are two steps to extrapolate the lap time to eps = 0 from.
+SolverGuess WarmStartGuess(const WarmStart& ws, const Vehicle& v, const std::vector<double>& mesh, const QssLap& qss,
+                           IndirectOptions* options) {
   SolverGuess g = ResampleWarmStart(ws, v, mesh);
   g.x.front() = qss.x.front();
   options->eps_start = ws.eps > options->eps_end ? ws.eps : options->eps_end / options->eps_factor;
@@ -123,7 +143,7 @@ LapSolution Solve(const Arguments& a, const Vehicle& v, const RoadTrack& track, 
     IpoptOptions ipopt;
     if (a.max_iterations > 0) ipopt.max_iterations = a.max_iterations;
     ipopt.print_level = options.verbose ? 5 : 0;
-    return SolveDirectIpopt(v, track, mesh, guess.x, guess.u, ipopt, summary);
+    return SolveDirectIpopt(v, track, mesh, guess, ipopt, summary);
   }
   return SolveIndirect(v, track, mesh, guess.x, guess.lambda, guess.u, options, summary);
 }
@@ -136,14 +156,14 @@ int Run(const Arguments& a) {
   const Vehicle v = MakeVehicle(bike);
   const RoadTrack track(road, a.road);
   const std::string road_sha256 = ttz::FileSha256(a.road);
-  const std::vector<double> mesh = LapMesh(v, track, track.Length(), a.mesh);
+  const std::optional<WarmStart> init =
+      a.init.empty() ? std::nullopt : std::optional<WarmStart>(ReadInit(a, road_sha256, track.Length()));
+  const std::vector<double> mesh = SolveMesh(a, init, road_sha256, v, track);
   const QssLap qss = ComputeQss(v, track, mesh);
   IndirectOptions options;
   if (a.max_iterations > 0) options.max_iterations = a.max_iterations;
   options.verbose = a.verbose && !a.json;  // Ceres and Ipopt print their iterations on stdout
-  const SolverGuess guess = a.init.empty()
-                                ? SolverGuess{qss.x, {}, qss.u}
-                                : WarmStartGuess(a, road_sha256, track.Length(), v, mesh, qss, &options);
+  const SolverGuess guess = init ? WarmStartGuess(*init, v, mesh, qss, &options) : SolverGuess{qss.x, {}, qss.u, {}};
   SolveSummary summary;
   const LapSolution sol = Solve(a, v, track, mesh, qss, guess, options, &summary);
   const ResimReport resim = Resimulate(v, track, sol, ResimOptions{});

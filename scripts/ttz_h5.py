@@ -15,9 +15,9 @@ import tempfile
 import numpy as np
 
 LAP_SCHEMA = "ttz.lap"
-# Version 1 is docs/lap_h5.md; version 2 is the same layout with Omega_z moved from control/ to
-# state/ (read by omega_z() below). Any other version is refused.
-LAP_VERSIONS = (1, 2)
+# Version 1 had Omega_z in control/; version 2 has it in state/ (read by omega_z() below); version 3
+# (docs/lap_h5.md) adds control_interval/, which the scripts do not read. Any other version is refused.
+LAP_VERSIONS = (1, 2, 3)
 ROAD_SCHEMA = "ttz.road"
 ROAD_VERSIONS = (1,)
 EARTH_RADIUS_M = 6371000.0

@@ -404,17 +404,17 @@ Transcription MakeTranscription(const Vehicle& v, const RoadTrack& road,
   return tr;
 }
 
-// The guess as Ipopt's unknowns: x~_k = x_k / S at the nodes, u~_k = (u_k + u_{k+1}) / 2 / S_u
-// on the intervals (as the indirect solver starts its controls).
-std::vector<double> ScaledGuess(const Transcription& tr,
-                                const std::vector<StateVector<double>>& x_guess,
-                                const std::vector<ControlVector<double>>& u_guess) {
+// The guess as Ipopt's unknowns: x~_k = x_k / S at the nodes, u~_k = the guess's control of
+// interval k / S_u, or the mean of its nodes' (as the indirect solver starts its controls).
+std::vector<double> ScaledGuess(const Transcription& tr, const SolverGuess& guess) {
   std::vector<double> z(tr.NumVars());
   for (int k = 0; k < tr.NumNodes(); ++k)
-    for (int i = 0; i < kNumStates; ++i) z[tr.State(k, i)] = x_guess[k][i] / tr.sc.state[i];
+    for (int i = 0; i < kNumStates; ++i) z[tr.State(k, i)] = guess.x[k][i] / tr.sc.state[i];
   for (int k = 0; k < tr.NumIntervals(); ++k)
     for (int i = 0; i < kNumControls; ++i)
-      z[tr.Control(k, i)] = 0.5 * (u_guess[k][i] + u_guess[k + 1][i]) / tr.sc.control[i];
+      z[tr.Control(k, i)] = (guess.u_interval.empty() ? 0.5 * (guess.u[k][i] + guess.u[k + 1][i])
+                                                     : guess.u_interval[k][i]) /
+                            tr.sc.control[i];
   return z;
 }
 
@@ -507,9 +507,15 @@ LapSolution SolveDirectIpopt(const Vehicle& v, const RoadTrack& road,
                              const std::vector<StateVector<double>>& x_guess,
                              const std::vector<ControlVector<double>>& u_guess,
                              const IpoptOptions& options, SolveSummary* summary) {
+  return SolveDirectIpopt(v, road, mesh, SolverGuess{x_guess, {}, u_guess, {}}, options, summary);
+}
+
+LapSolution SolveDirectIpopt(const Vehicle& v, const RoadTrack& road,
+                             const std::vector<double>& mesh, const SolverGuess& guess,
+                             const IpoptOptions& options, SolveSummary* summary) {
   const auto start = std::chrono::steady_clock::now();
   const Transcription tr = MakeTranscription(v, road, mesh, options);
-  LapNlp* nlp = new LapNlp(&tr, ScaledGuess(tr, x_guess, u_guess));
+  LapNlp* nlp = new LapNlp(&tr, ScaledGuess(tr, guess));
   const Ipopt::SmartPtr<Ipopt::TNLP> owner = nlp;  // Ipopt's reference counting frees it
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = MakeApplication(options);
   std::ostringstream why;

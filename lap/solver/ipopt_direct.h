@@ -67,7 +67,13 @@ struct IpoptOptions {
 // scaled states at the nodes from the defect multipliers (ipopt_direct.cc,
 // CostatesFromMultipliers); eps = 0; lap_time = lap_time_extrapolated = the lap time of the
 // objective; summary->max_residual = Ipopt's final scaled NLP error, summary->steps empty,
-// summary->control_failures 0.
+// summary->control_failures 0. Ipopt takes the guess's states and controls (those of the
+// intervals when it has them) and initialises its multipliers itself: warm-starting them from an
+// earlier lap's did not save iterations (docs/lap.md, "Warm starts").
+LapSolution SolveDirectIpopt(const Vehicle& v, const RoadTrack& road,
+                             const std::vector<double>& mesh, const SolverGuess& guess,
+                             const IpoptOptions& options, SolveSummary* summary);
+// The same from states and controls alone.
 LapSolution SolveDirectIpopt(const Vehicle& v, const RoadTrack& road,
                              const std::vector<double>& mesh,
                              const std::vector<StateVector<double>>& x_guess,

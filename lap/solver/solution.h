@@ -31,6 +31,14 @@ struct LapSolution {
   double lap_time_extrapolated = 0.0;          // linear extrapolation to eps = 0 [s]
 };
 
+// Where a solve starts, on its mesh: the states, the costates of the scaled states
+// (lap/solver/hamiltonian.h; empty: from the states alone), and the controls at the nodes and of
+// the intervals (empty: the mean of the nodes').
+struct SolverGuess {
+  std::vector<StateVector<double>> x, lambda;
+  std::vector<ControlVector<double>> u, u_interval;
+};
+
 // The controls at the nodes from the intervals' (both solvers hold one control per interval): a
 // node reports the mean of its two neighbouring intervals' controls, an end node its one
 // interval's.
