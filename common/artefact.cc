@@ -181,6 +181,7 @@ void ArtefactWriter::Commit() {
 
 struct ArtefactReader::Impl {
   std::string path;
+  int64_t version = 0;  // the file's schema_version
   hid_t file = -1;
   ~Impl() {
     if (file >= 0) H5Fclose(file);
@@ -223,7 +224,8 @@ struct ArtefactReader::Impl {
   }
 };
 
-ArtefactReader::ArtefactReader(const std::string& path, const std::string& schema, int schema_version)
+ArtefactReader::ArtefactReader(const std::string& path, const std::string& schema, int schema_version,
+                               int oldest_version)
     : impl_(new Impl) {
   SilenceHdf5();
   impl_->path = path;
@@ -233,15 +235,21 @@ ArtefactReader::ArtefactReader(const std::string& path, const std::string& schem
   if (impl_->file < 0) throw InputError(path, "cannot be opened as HDF5");
   const std::string found = HasAttribute("schema") ? ReadStringAttribute("schema") : "(none)";
   if (found != schema) throw InputError(path, "schema '" + found + "' found, '" + schema + "' expected");
-  const int64_t version = ReadIntAttribute("schema_version");
-  if (version != schema_version)
-    throw InputError(path, "schema_version " + std::to_string(version) + " found, " + std::to_string(schema_version) +
+  impl_->version = ReadIntAttribute("schema_version");
+  const int oldest = oldest_version > 0 ? oldest_version : schema_version;
+  if (impl_->version < oldest || impl_->version > schema_version) {
+    const std::string expected = oldest == schema_version
+                                     ? std::to_string(schema_version)
+                                     : std::to_string(oldest) + " to " + std::to_string(schema_version);
+    throw InputError(path, "schema_version " + std::to_string(impl_->version) + " found, " + expected +
                                " expected (re-create the file with this version of the tools)");
+  }
 }
 
 ArtefactReader::~ArtefactReader() = default;
 
 const std::string& ArtefactReader::path() const { return impl_->path; }
+int ArtefactReader::schema_version() const { return static_cast<int>(impl_->version); }
 bool ArtefactReader::HasDataset(const std::string& name) const { return impl_->Exists(name); }
 bool ArtefactReader::HasAttribute(const std::string& name) const {
   return H5Aexists(impl_->file, name.c_str()) > 0;

@@ -49,13 +49,15 @@ class ArtefactWriter {
 class ArtefactReader {
  public:
   // Throws InputError when the file is missing, is not HDF5, or its `schema` / `schema_version`
-  // differ from the expected ones (the message says found and expected).
-  ArtefactReader(const std::string& path, const std::string& schema, int schema_version);
+  // differ from the expected ones (the message says found and expected). Versions from
+  // oldest_version to schema_version are accepted (oldest_version 0: schema_version alone).
+  ArtefactReader(const std::string& path, const std::string& schema, int schema_version, int oldest_version = 0);
   ~ArtefactReader();
   ArtefactReader(const ArtefactReader&) = delete;
   ArtefactReader& operator=(const ArtefactReader&) = delete;
 
   const std::string& path() const;
+  int schema_version() const;  // the file's
   bool HasDataset(const std::string& name) const;
   bool HasAttribute(const std::string& name) const;
 

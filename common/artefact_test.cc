@@ -73,6 +73,9 @@ TEST_F(Artefact, ReaderRejectsWhatIsWrongNamingIt) {
             std::string::npos);
   EXPECT_NE(message([&] { ArtefactReader(Path("a.h5"), "ttz.road", 2); }).find("schema_version 1 found, 2 expected"),
             std::string::npos);
+  EXPECT_NE(message([&] { ArtefactReader(Path("a.h5"), "ttz.road", 3, 2); }).find("schema_version 1 found, 2 to 3 expected"),
+            std::string::npos);
+  EXPECT_EQ(ArtefactReader(Path("a.h5"), "ttz.road", 2, 1).schema_version(), 1);
   ArtefactReader r(Path("a.h5"), "ttz.road", 1);
   EXPECT_NE(message([&] { r.ReadVector("s", "km"); }).find("units 'm', 'km' expected"), std::string::npos);
   EXPECT_NE(message([&] { r.ReadVector("kappa", "1/m"); }).find("dataset 'kappa' is missing"), std::string::npos);

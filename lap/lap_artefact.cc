@@ -157,6 +157,7 @@ void WriteAttributes(ArtefactWriter& w, const LapSolution& sol, const SolveSumma
   w.WriteAttribute("road_sha256", p.road_sha256);
   w.WriteAttribute("road_length", p.road_length);
   w.WriteAttribute("init_file", p.init_file);
+  w.WriteBoolAttribute("mesh_from_init", p.mesh_from_init);
   w.WriteAttribute("tool_version", TTZ_VERSION);
 }
 
@@ -174,25 +175,28 @@ void WriteResimAttributes(ArtefactWriter& w, const ResimReport& r) {
   w.WriteAttribute("resim_message", r.message);
 }
 
-// Reads the per-node rows of a group ("state", "costate", "control") into `rows`.
+// Reads the rows of a group ("state", "costate", "control": n = the nodes; "control_interval":
+// n = the intervals) into `rows`; `per` names what there is one row per, for the message.
 template <size_t N>
 void ReadRows(const ArtefactReader& r, const std::string& group, const std::array<const char*, N>& names,
-              const std::array<const char*, N>& units, size_t n, std::vector<std::array<double, N>>* rows) {
+              const std::array<const char*, N>& units, size_t n, const char* per,
+              std::vector<std::array<double, N>>* rows) {
   rows->assign(n, {});
   for (size_t i = 0; i < N; ++i) {
     const std::string name = group + "/" + names[i];
     const std::vector<double> c = r.ReadVector(name, units[i]);
     if (c.size() != n)
       throw InputError(r.path(), "dataset '" + name + "' has " + std::to_string(c.size()) + " values, " +
-                                     std::to_string(n) + " expected (as 's')");
+                                     std::to_string(n) + " expected (one per " + per + " of 's')");
     for (size_t k = 0; k < n; ++k) (*rows)[k][i] = c[k];
   }
 }
 
-// Linear interpolation of rows given at `s` onto `at` (clamped to s's range).
+// Linear interpolation of rows given at `s` onto `at` (clamped to s's range; one row: that row).
 template <size_t N>
 std::array<double, N> Interpolate(const std::vector<double>& s, const std::vector<std::array<double, N>>& rows,
                                   double at) {
+  if (rows.size() == 1) return rows.front();
   const size_t hi = std::clamp<size_t>(std::upper_bound(s.begin(), s.end(), at) - s.begin(), 1, s.size() - 1);
   const double w = std::clamp((at - s[hi - 1]) / (s[hi] - s[hi - 1]), 0.0, 1.0);
   std::array<double, N> out;
@@ -215,7 +219,7 @@ void WriteLap(const std::string& path, const Vehicle& v, const LapSolution& sol,
 }
 
 WarmStart ReadLapForWarmStart(const std::string& path) {
-  const ArtefactReader r(path, kLapSchema, kLapSchemaVersion);
+  const ArtefactReader r(path, kLapSchema, kLapSchemaVersion, kLapOldestWarmStartVersion);
   WarmStart ws;
   ws.s = r.ReadVector("s", "m");
   const size_t n = ws.s.size();
@@ -223,10 +227,10 @@ WarmStart ReadLapForWarmStart(const std::string& path) {
   for (size_t k = 1; k < n; ++k)
     if (!(ws.s[k] > ws.s[k - 1]))
       throw InputError(path, "dataset 's' is not strictly increasing at index " + std::to_string(k));
-  ReadRows(r, "state", kStateNames, kStateUnits, n, &ws.x);
-  ReadRows(r, "costate", kStateNames, kCostateUnits, n, &ws.lambda);
-  ReadRows(r, "control", kControlNames, kControlUnits, n, &ws.u);
-  ReadRows(r, "control_interval", kControlNames, kControlUnits, n - 1, &ws.u_interval);
+  ReadRows(r, "state", kStateNames, kStateUnits, n, "node", &ws.x);
+  ReadRows(r, "costate", kStateNames, kCostateUnits, n, "node", &ws.lambda);
+  ReadRows(r, "control", kControlNames, kControlUnits, n, "node", &ws.u);
+  if (r.schema_version() >= 3) ReadRows(r, "control_interval", kControlNames, kControlUnits, n - 1, "interval", &ws.u_interval);
   ws.eps = r.ReadDoubleAttribute("eps");
   ws.mesh.ds_m = r.ReadDoubleAttribute("mesh_ds");
   ws.mesh.dt_max_s = r.ReadDoubleAttribute("mesh_dt_max");
@@ -245,6 +249,7 @@ SolverGuess ResampleWarmStart(const WarmStart& w, const Vehicle& v, const std::v
     g.lambda.push_back(lambda);
     g.u.push_back(Interpolate(w.s, w.u, s));
   }
+  if (w.u_interval.empty()) return g;  // a version 2 file: the solvers start from the node controls
   const std::vector<double> from = Midpoints(w.s);
   for (double s : Midpoints(mesh)) g.u_interval.push_back(Interpolate(from, w.u_interval, s));
   return g;

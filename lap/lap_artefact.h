@@ -18,6 +18,7 @@ namespace ttz::lap {
 
 inline constexpr const char* kLapSchema = "ttz.lap";
 inline constexpr int kLapSchemaVersion = 3;  // 2: Omega_z a state, dOmega_z_dt a control; 3: control_interval
+inline constexpr int kLapOldestWarmStartVersion = 2;  // --init reads version 2 too (no control_interval)
 
 // What lap.h5 records about the run besides the solution.
 struct LapProvenance {
@@ -28,6 +29,7 @@ struct LapProvenance {
   double road_length = 0.0;  // [m]
   std::string init_file;     // the --init file, "" when none
   MeshOptions mesh;          // how the mesh was built (--ds, --dt-max)
+  bool mesh_from_init = false;  // the mesh is the --init file's (lap/main.cc, SolveMesh)
 };
 
 // Writes atomically (ttz::ArtefactWriter); also when the solve did not converge. The costates
@@ -50,11 +52,13 @@ struct WarmStart {
 };
 
 // Throws ttz::InputError naming the file and the dataset or attribute when the file is missing,
-// is not a ttz.lap artefact of kLapSchemaVersion, lacks a dataset or attribute, or its datasets disagree.
+// is not a ttz.lap artefact of version kLapOldestWarmStartVersion to kLapSchemaVersion (version 2:
+// u_interval empty), lacks a dataset or attribute, or its datasets disagree.
 WarmStart ReadLapForWarmStart(const std::string& path);
 
-// The warm start on another mesh, linearly interpolated in s (clamped to the file's range), with
-// the costates scaled as the solver takes them (lap/solver/hamiltonian.h, DefaultScales of v).
+// The warm start on another mesh, linearly interpolated in s (clamped to the file's range; the
+// intervals' controls at the intervals' midpoints), with the costates scaled as the solver takes
+// them (lap/solver/hamiltonian.h, DefaultScales of v).
 SolverGuess ResampleWarmStart(const WarmStart& w, const Vehicle& v, const std::vector<double>& mesh);
 
 }  // namespace ttz::lap

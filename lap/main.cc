@@ -58,7 +58,9 @@ void DefineOptions(CLI::App& app, Arguments& a) {
                  "largest duration of a mesh interval at the quasi-steady speed [s]; 0: a uniform mesh (lap/mesh.h)")
       ->check(kNonNegative)
       ->capture_default_str();
-  app.add_option("--init", a.init, "warm start from an earlier lap.h5 of this road (states, controls, costates, barrier weight; its mesh when solved with the same --ds and --dt-max)");
+  app.add_option("--init", a.init,
+                 "warm start from an earlier lap.h5 of this road (states, controls, costates, barrier weight); "
+                 "its mesh too when it is a lap of this road file with the same --ds and --dt-max");
   app.add_option("--solver", a.solver, "indirect (Ceres, the default) or ipopt (the direct-transcription oracle)")
       ->check(CLI::IsMember({"indirect", "ipopt"}))
       ->capture_default_str();
@@ -104,19 +106,14 @@ WarmStart ReadInit(const Arguments& a, const std::string& road_sha256, double ro
   return ws;
 }
 
-// The mesh: the --init lap's own when it is of this very road and was built with these mesh
-// options (its bike may differ, and with it the speeds --dt-max refines for), so that its
-// solution carries over without interpolation; else LapMesh. Interpolating onto another mesh
+// Whether to solve on the --init lap's own mesh: when it is a lap of this very road file built
+// with these mesh options. Its bike may differ, and with it the speeds --dt-max refined for (at
+// the launch and in slow bends), but its solution then carries over without interpolation, which
 // leaves defects in the fast states (omega_w, omega_phi, z_dot) that cost Ipopt more iterations
-// than the warm start saves (docs/lap.md, "Warm starts").
-std::vector<double> SolveMesh(const Arguments& a, const std::optional<WarmStart>& init, const std::string& road_sha256,
-                              const Vehicle& v, const RoadTrack& track) {
-  if (init && init->road_sha256 == road_sha256 && init->mesh.ds_m == a.mesh.ds_m &&
-      init->mesh.dt_max_s == a.mesh.dt_max_s) {
-    ttz::Log(ttz::LogKind::kInfo, "solving on the mesh of " + a.init + " (" + std::to_string(init->s.size()) + " nodes)");
-    return init->s;
-  }
-  return LapMesh(v, track, track.Length(), a.mesh);
+// than the warm start saves (docs/lap.md, "Warm starts on the earlier lap's mesh").
+bool UseInitMesh(const Arguments& a, const std::optional<WarmStart>& init, const std::string& road_sha256) {
+  return init && init->road_sha256 == road_sha256 && init->mesh.ds_m == a.mesh.ds_m &&
+         init->mesh.dt_max_s == a.mesh.dt_max_s;
 }
 
 // The initial guess from --init: the earlier solution on this mesh, with this bike's fixed
@@ -158,18 +155,21 @@ int Run(const Arguments& a) {
   const std::string road_sha256 = ttz::FileSha256(a.road);
   const std::optional<WarmStart> init =
       a.init.empty() ? std::nullopt : std::optional<WarmStart>(ReadInit(a, road_sha256, track.Length()));
-  const std::vector<double> mesh = SolveMesh(a, init, road_sha256, v, track);
+  const bool mesh_from_init = UseInitMesh(a, init, road_sha256);
+  const std::vector<double> mesh = mesh_from_init ? init->s : LapMesh(v, track, track.Length(), a.mesh);
+  if (mesh_from_init) ttz::Log(ttz::LogKind::kInfo, "solving on the mesh of " + a.init);
   const QssLap qss = ComputeQss(v, track, mesh);
   IndirectOptions options;
   if (a.max_iterations > 0) options.max_iterations = a.max_iterations;
   options.verbose = a.verbose && !a.json;  // Ceres and Ipopt print their iterations on stdout
-  const SolverGuess guess = init ? WarmStartGuess(*init, v, mesh, qss, &options) : SolverGuess{qss.x, {}, qss.u, {}};
+  const SolverGuess guess =
+      init ? WarmStartGuess(*init, v, mesh, qss, &options) : SolverGuess{qss.x, {}, qss.u, {}};
   SolveSummary summary;
   const LapSolution sol = Solve(a, v, track, mesh, qss, guess, options, &summary);
   const ResimReport resim = Resimulate(v, track, sol, ResimOptions{});
   const LapChannels channels = ComputeLapChannels(v, track, sol);
   WriteLap(a.output, v, sol, summary, channels, qss, resim,
-           {a.solver, BikeToYaml(bike), a.road, road_sha256, track.Length(), a.init, a.mesh});
+           {a.solver, BikeToYaml(bike), a.road, road_sha256, track.Length(), a.init, a.mesh, mesh_from_init});
   std::cout << (a.json ? LapReportJson(sol, summary, channels.figures, resim)
                        : LapReportText(sol, summary, channels.figures, resim))
             << std::flush;

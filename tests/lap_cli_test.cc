@@ -156,6 +156,7 @@ TEST_F(LapCli, AStraightRoadSolvesWritesLapH5AndWarmStartsTheNextSolve) {
   EXPECT_NE(warm.stdout_text.find("\"converged\": true"), std::string::npos) << warm.stdout_text;
   const ttz::ArtefactReader w(Path("warm.h5"), "ttz.lap", 3);
   EXPECT_EQ(w.ReadStringAttribute("init_file"), lap);
+  EXPECT_FALSE(w.ReadBoolAttribute("mesh_from_init"));  // --ds 4, not 2
   EXPECT_NEAR(w.ReadDoubleAttribute("lap_time"), r.ReadDoubleAttribute("lap_time"), 0.01 * t.back());
 
   // The same lap as the warm start of another (longer) road is refused.
@@ -252,9 +253,35 @@ TEST_F(LapCli, AnIpoptLapWarmStartsIpoptOnItsOwnMesh) {
               1e-6 * a.ReadDoubleAttribute("lap_time"));
   EXPECT_NE(cold.ReadVector("s", "m"), a.ReadVector("s", "m"));
   EXPECT_EQ(warm.ReadVector("s", "m"), a.ReadVector("s", "m"));
+  EXPECT_TRUE(warm.ReadBoolAttribute("mesh_from_init"));
+  EXPECT_FALSE(cold.ReadBoolAttribute("mesh_from_init"));
   EXPECT_LT(warm.ReadIntAttribute("iterations"), cold.ReadIntAttribute("iterations"));
   EXPECT_NEAR(warm.ReadDoubleAttribute("lap_time"), cold.ReadDoubleAttribute("lap_time"),
               1e-3 * cold.ReadDoubleAttribute("lap_time"));
+}
+
+// A lap of one interval (--ds longer than the road, uniform) and a lap of schema version 2 (no
+// control_interval/*) both warm-start a solve on another mesh.
+TEST_F(LapCli, OneIntervalAndVersion2LapsWarmStart) {
+  const std::string road = Road("straight100.h5", StraightRoad(100.0));
+  const std::string options = road + " " + kBike + " -q --solver ipopt";
+  const int one = Lap(options + " --ds 200 --dt-max 0", "one.h5").exit_code;
+  ASSERT_TRUE(one == 0 || one == 4);  // converged; the 100 m interval does not re-simulate
+  ASSERT_EQ(ttz::ArtefactReader(Path("one.h5"), "ttz.lap", 3).ReadIntAttribute("nodes"), 2);
+  EXPECT_EQ(Lap(options + " --ds 10 --init " + Path("one.h5"), "from_one.h5").exit_code, 0);
+
+  ASSERT_EQ(Lap(options + " --ds 10", "v3.h5").exit_code, 0);
+  const hid_t file = H5Fopen(Path("v3.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  EXPECT_GE(H5Ldelete(file, "control_interval", H5P_DEFAULT), 0);
+  const int64_t version = 2;
+  const hid_t attribute = H5Aopen(file, "schema_version", H5P_DEFAULT);
+  EXPECT_GE(H5Awrite(attribute, H5T_NATIVE_INT64, &version), 0);
+  H5Aclose(attribute);
+  H5Fclose(file);
+  const CliRun from_v2 = Lap(options + " --ds 10 --init " + Path("v3.h5"), "from_v2.h5");
+  EXPECT_EQ(from_v2.exit_code, 0) << from_v2.stderr_text;
+  EXPECT_TRUE(ttz::ArtefactReader(Path("from_v2.h5"), "ttz.lap", 3).ReadBoolAttribute("mesh_from_init"));
 }
 
 TEST_F(LapCli, ASolveThatDoesNotConvergeExits3AndStillWritesLapH5) {

@@ -404,17 +404,19 @@ Transcription MakeTranscription(const Vehicle& v, const RoadTrack& road,
   return tr;
 }
 
-// The guess as Ipopt's unknowns: x~_k = x_k / S at the nodes, u~_k = the guess's control of
-// interval k / S_u, or the mean of its nodes' (as the indirect solver starts its controls).
+// Control i of interval k in the guess: the interval's own, or the mean of its nodes' (as the
+// indirect solver starts its controls).
+double IntervalControl(const SolverGuess& guess, int k, int i) {
+  return guess.u_interval.empty() ? 0.5 * (guess.u[k][i] + guess.u[k + 1][i]) : guess.u_interval.at(k)[i];
+}
+
+// The guess as Ipopt's unknowns: x~_k = x_k / S at the nodes, u~_k = IntervalControl / S_u.
 std::vector<double> ScaledGuess(const Transcription& tr, const SolverGuess& guess) {
   std::vector<double> z(tr.NumVars());
   for (int k = 0; k < tr.NumNodes(); ++k)
     for (int i = 0; i < kNumStates; ++i) z[tr.State(k, i)] = guess.x[k][i] / tr.sc.state[i];
   for (int k = 0; k < tr.NumIntervals(); ++k)
-    for (int i = 0; i < kNumControls; ++i)
-      z[tr.Control(k, i)] = (guess.u_interval.empty() ? 0.5 * (guess.u[k][i] + guess.u[k + 1][i])
-                                                     : guess.u_interval[k][i]) /
-                            tr.sc.control[i];
+    for (int i = 0; i < kNumControls; ++i) z[tr.Control(k, i)] = IntervalControl(guess, k, i) / tr.sc.control[i];
   return z;
 }
 

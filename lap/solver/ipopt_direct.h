@@ -69,7 +69,8 @@ struct IpoptOptions {
 // objective; summary->max_residual = Ipopt's final scaled NLP error, summary->steps empty,
 // summary->control_failures 0. Ipopt takes the guess's states and controls (those of the
 // intervals when it has them) and initialises its multipliers itself: warm-starting them from an
-// earlier lap's did not save iterations (docs/lap.md, "Warm starts").
+// earlier lap's did not save iterations (docs/lap.md, "Warm starts on the
+// earlier lap's mesh").
 LapSolution SolveDirectIpopt(const Vehicle& v, const RoadTrack& road,
                              const std::vector<double>& mesh, const SolverGuess& guess,
                              const IpoptOptions& options, SolveSummary* summary);

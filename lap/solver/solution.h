@@ -33,7 +33,8 @@ struct LapSolution {
 
 // Where a solve starts, on its mesh: the states, the costates of the scaled states
 // (lap/solver/hamiltonian.h; empty: from the states alone), and the controls at the nodes and of
-// the intervals (empty: the mean of the nodes').
+// the intervals (the Ipopt oracle starts from u_interval, or when it is empty from the mean of
+// the nodes'; the indirect solver from the nodes').
 struct SolverGuess {
   std::vector<StateVector<double>> x, lambda;
   std::vector<ControlVector<double>> u, u_interval;
