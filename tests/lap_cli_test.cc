@@ -300,6 +300,16 @@ TEST_F(LapCli, ASolveThatDoesNotConvergeExits3AndStillWritesLapH5) {
   EXPECT_NE(r.ReadStringAttribute("message").find("continuation failed"), std::string::npos);
 }
 
+// Ipopt's options file in the working directory is ignored: this one would stop it after 1 iteration.
+TEST_F(LapCli, AnIpoptOptFileInTheWorkingDirectoryIsIgnored) {
+  const std::string road = Road("straight100.h5", StraightRoad(100.0));
+  File("ipopt.opt", "max_iter 1\n");
+  const std::string command = "cd " + dir_.string() + " && " + kLap + " " + road + " " + kBike +
+                              " --solver ipopt --ds 4 -q -o " + Path("lap.h5") + " > /dev/null 2>&1";
+  EXPECT_EQ(WEXITSTATUS(std::system(command.c_str())), 0);
+  EXPECT_GT(ttz::ArtefactReader(Path("lap.h5"), "ttz.lap", 3).ReadIntAttribute("iterations"), 1);
+}
+
 TEST_F(LapCli, AnIpoptSolveThatDoesNotConvergeExits3WithoutTheHintToUseIpopt) {
   const std::string road = Road("straight100.h5", StraightRoad(100.0));
   const CliRun run = Lap(road + " " + kBike + " --ds 4 -q --solver ipopt --max-iterations 2");

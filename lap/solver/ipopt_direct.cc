@@ -422,6 +422,9 @@ std::vector<double> ScaledGuess(const Transcription& tr, const SolverGuess& gues
 
 Ipopt::SmartPtr<Ipopt::IpoptApplication> MakeApplication(const IpoptOptions& o) {
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
+  // Ipopt would read an options file "ipopt.opt" from the working directory and let it override
+  // the options below: a stray one would change every lap silently.
+  app->Options()->SetStringValue("option_file_name", "");
   app->Options()->SetIntegerValue("print_level", o.print_level);
   if (o.print_level == 0) app->Options()->SetStringValue("sb", "yes");  // no banner
   app->Options()->SetStringValue("hessian_approximation", "exact");
