@@ -73,7 +73,8 @@ TEST_F(Artefact, ReaderRejectsWhatIsWrongNamingIt) {
             std::string::npos);
   EXPECT_NE(message([&] { ArtefactReader(Path("a.h5"), "ttz.road", 2); }).find("schema_version 1 found, 2 expected"),
             std::string::npos);
-  EXPECT_NE(message([&] { ArtefactReader(Path("a.h5"), "ttz.road", 3, 2); }).find("schema_version 1 found, 2 to 3 expected"),
+  EXPECT_NE(message([&] { ArtefactReader(Path("a.h5"), "ttz.road", 3, 2); })
+                .find("schema_version 1 found, 2 to 3 expected"),
             std::string::npos);
   EXPECT_EQ(ArtefactReader(Path("a.h5"), "ttz.road", 2, 1).schema_version(), 1);
   ArtefactReader r(Path("a.h5"), "ttz.road", 1);

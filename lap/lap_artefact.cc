@@ -230,7 +230,8 @@ WarmStart ReadLapForWarmStart(const std::string& path) {
   ReadRows(r, "state", kStateNames, kStateUnits, n, "node", &ws.x);
   ReadRows(r, "costate", kStateNames, kCostateUnits, n, "node", &ws.lambda);
   ReadRows(r, "control", kControlNames, kControlUnits, n, "node", &ws.u);
-  if (r.schema_version() >= 3) ReadRows(r, "control_interval", kControlNames, kControlUnits, n - 1, "interval", &ws.u_interval);
+  if (r.schema_version() >= 3)  // version 2 has no control_interval/*
+    ReadRows(r, "control_interval", kControlNames, kControlUnits, n - 1, "interval", &ws.u_interval);
   ws.eps = r.ReadDoubleAttribute("eps");
   ws.mesh.ds_m = r.ReadDoubleAttribute("mesh_ds");
   ws.mesh.dt_max_s = r.ReadDoubleAttribute("mesh_dt_max");

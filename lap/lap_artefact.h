@@ -29,7 +29,7 @@ struct LapProvenance {
   double road_length = 0.0;  // [m]
   std::string init_file;     // the --init file, "" when none
   MeshOptions mesh;          // how the mesh was built (--ds, --dt-max)
-  bool mesh_from_init = false;  // the mesh is the --init file's (lap/main.cc, SolveMesh)
+  bool mesh_from_init = false;  // the mesh is the --init file's (lap/main.cc, UseInitMesh)
 };
 
 // Writes atomically (ttz::ArtefactWriter); also when the solve did not converge. The costates
