@@ -8,6 +8,8 @@
 #include <chrono>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "lap/solver/direct_node.h"
@@ -420,18 +422,25 @@ std::vector<double> ScaledGuess(const Transcription& tr, const SolverGuess& gues
   return z;
 }
 
+// Ipopt rejects an option value outside its range (tol <= 0, say) by returning false and
+// carrying on with its default; here that is an error.
+void Require(bool accepted, const char* option) {
+  if (!accepted) throw std::invalid_argument(std::string("Ipopt rejected the value of option ") + option);
+}
+
 Ipopt::SmartPtr<Ipopt::IpoptApplication> MakeApplication(const IpoptOptions& o) {
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
+  Ipopt::OptionsList& options = *app->Options();
   // Ipopt would read an options file "ipopt.opt" from the working directory and let it override
   // the options below: a stray one would change every lap silently.
-  app->Options()->SetStringValue("option_file_name", "");
-  app->Options()->SetIntegerValue("print_level", o.print_level);
-  if (o.print_level == 0) app->Options()->SetStringValue("sb", "yes");  // no banner
-  app->Options()->SetStringValue("hessian_approximation", "exact");
-  app->Options()->SetStringValue("mu_strategy", o.mu_strategy);
-  app->Options()->SetStringValue("linear_solver", "mumps");
-  app->Options()->SetNumericValue("tol", o.tolerance);
-  app->Options()->SetIntegerValue("max_iter", o.max_iterations);
+  Require(options.SetStringValue("option_file_name", ""), "option_file_name");
+  Require(options.SetIntegerValue("print_level", o.print_level), "print_level");
+  if (o.print_level == 0) Require(options.SetStringValue("sb", "yes"), "sb");  // no banner
+  Require(options.SetStringValue("hessian_approximation", "exact"), "hessian_approximation");
+  Require(options.SetStringValue("mu_strategy", o.mu_strategy), "mu_strategy");
+  Require(options.SetStringValue("linear_solver", "mumps"), "linear_solver");
+  Require(options.SetNumericValue("tol", o.tolerance), "tol");
+  Require(options.SetIntegerValue("max_iter", o.max_iterations), "max_iter");
   return app;
 }
 

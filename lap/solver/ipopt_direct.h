@@ -70,7 +70,7 @@ struct IpoptOptions {
 // summary->control_failures 0. Ipopt takes the guess's states and controls (those of the
 // intervals when it has them) and initialises its multipliers itself: warm-starting them from an
 // earlier lap's did not save iterations (docs/lap.md, "Warm starts on the
-// earlier lap's mesh").
+// earlier lap's mesh"). Throws std::invalid_argument when Ipopt rejects a value of `options`.
 LapSolution SolveDirectIpopt(const Vehicle& v, const RoadTrack& road,
                              const std::vector<double>& mesh, const SolverGuess& guess,
                              const IpoptOptions& options, SolveSummary* summary);

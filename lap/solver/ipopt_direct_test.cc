@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <stdexcept>
 
 #include "lap/model/constraints.h"
 #include "lap/solver/direct_node.h"
@@ -154,6 +155,23 @@ TEST(IpoptDirectTest, NodeConstraintsKeepEveryNodeWithinItsLimits) {
   std::cout << "bend: midpoints only " << mid.lap_time << " s (" << mid_summary.iterations
             << " iterations), with nodes " << nodes.lap_time << " s (" << nodes_summary.iterations
             << ")\n";
+}
+
+// An option value Ipopt rejects would otherwise leave its default in force without a word.
+TEST(IpoptDirectTest, AnOptionIpoptRejectsIsAnError) {
+  const Vehicle v = Bx15();
+  const auto& [road, mesh, qss] = MeshedRoad(v, StraightRoad(50.0), 5.0);
+  const auto solve = [&](const IpoptOptions& options) {
+    SolveSummary summary;
+    SolveDirectIpopt(v, road, mesh, qss.x, qss.u, options, &summary);
+  };
+  IpoptOptions no_tolerance;
+  no_tolerance.tolerance = 0.0;  // Ipopt's range: tol > 0
+  EXPECT_THROW(solve(no_tolerance), std::invalid_argument);
+  IpoptOptions unknown_strategy;
+  unknown_strategy.mu_strategy = "sometimes";
+  EXPECT_THROW(solve(unknown_strategy), std::invalid_argument);
+  EXPECT_NO_THROW(solve(IpoptOptions{}));
 }
 
 // Both solvers start from the QSS guess, which is symmetric (n = alpha = phi = 0), and stay on
