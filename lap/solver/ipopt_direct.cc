@@ -528,10 +528,11 @@ LapSolution SolveDirectIpopt(const Vehicle& v, const RoadTrack& road,
                              const std::vector<double>& mesh, const SolverGuess& guess,
                              const IpoptOptions& options, SolveSummary* summary) {
   const auto start = std::chrono::steady_clock::now();
+  // First, so that an option Ipopt rejects fails before the transcription is built.
+  Ipopt::SmartPtr<Ipopt::IpoptApplication> app = MakeApplication(options);
   const Transcription tr = MakeTranscription(v, road, mesh, options);
   LapNlp* nlp = new LapNlp(&tr, ScaledGuess(tr, guess));
   const Ipopt::SmartPtr<Ipopt::TNLP> owner = nlp;  // Ipopt's reference counting frees it
-  Ipopt::SmartPtr<Ipopt::IpoptApplication> app = MakeApplication(options);
   std::ostringstream why;
   Ipopt::ApplicationReturnStatus status = app->Initialize();
   if (status == Ipopt::Solve_Succeeded) status = app->OptimizeTNLP(owner);
