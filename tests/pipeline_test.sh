@@ -36,6 +36,16 @@ echo "$plan" | grep -q "^cp $d/studies/battery/37/lap.h5 $d/studies/grid/2.8_37/
 solved=$(echo "$plan" | grep -o "studies/[a-z]*/[0-9._]*/lap-attempt.h5" | sort -u | tr '\n' ' ')
 [ "$solved" = "studies/battery/37/lap-attempt.h5 studies/gear/3.0/lap-attempt.h5 studies/grid/3.0_37/lap-attempt.h5 studies/motors/3_4/lap-attempt.h5 studies/motors/3_5/lap-attempt.h5 " ] ||
   fail "the dry run solves $solved"
+# QUICK=yes: every point on the quick mesh into studies-quick/, the bike's own points copies of its
+# gear point there (not of the reference lap).
+plan=$(run_make -n motors grid QUICK=yes GRID_GEARS="2.8 3.0" GRID_MJ="51")
+q=$d/studies-quick
+for p in motors/2_4 grid/2.8_51; do
+  echo "$plan" | grep -q "^cp $q/gear/2.8/lap.h5 $q/$p/lap.h5.tmp" || fail "quick $p is not the quick gear 2.8"
+done
+solved=$(echo "$plan" | grep -- "--ds 40 --dt-max 1" | grep -o "studies-quick/[a-z]*/[0-9._]*/lap-attempt.h5" | sort -u | wc -l)
+[ "$solved" = 4 ] || fail "the quick dry run solves $solved points on the quick mesh, not 4"
+! echo "$plan" | grep -q "reference/lap" || fail "the quick studies use the reference lap"
 
 run_make gear GEARS="3.0 3.4" WARM_START=yes -j1
 for g in 3.0 3.4; do [ -s "$d/studies/gear/$g/lap.h5" ] || fail "gear $g: no lap.h5"; done
