@@ -34,6 +34,7 @@ struct Arguments {
   std::vector<std::string> overrides;
   MeshOptions mesh;
   int max_iterations = 0;  // 0: the solver's default
+  std::string mu_globalization = IpoptOptions{}.mu_globalization;
   bool json = false, quiet = false, verbose = false;
 };
 
@@ -69,6 +70,11 @@ void DefineOptions(CLI::App& app, Arguments& a) {
                      std::to_string(IndirectOptions{}.max_iterations) + ") or Ipopt iterations (ipopt, default " +
                      std::to_string(IpoptOptions{}.max_iterations) + ")")
       ->check(CLI::PositiveNumber);
+  app.add_option("--mu-globalization", a.mu_globalization,
+                 "Ipopt's adaptive_mu_globalization (ipopt): kkt-error solves laps whose pack is a little short of "
+                 "what the lap at full current uses (docs/lap.md)")
+      ->check(CLI::IsMember({"obj-constr-filter", "kkt-error"}))
+      ->capture_default_str();
   app.add_flag("--json", a.json, "print the summary as one JSON object");
   auto* quiet = app.add_flag("-q,--quiet", a.quiet, "print warnings and errors only");
   app.add_flag("-v,--verbose", a.verbose, "print the optimiser's iterations (to stdout unless --json)")->excludes(quiet);
@@ -139,6 +145,7 @@ LapSolution Solve(const Arguments& a, const Vehicle& v, const RoadTrack& track, 
   if (a.solver == "ipopt") {
     IpoptOptions ipopt;
     if (a.max_iterations > 0) ipopt.max_iterations = a.max_iterations;
+    ipopt.mu_globalization = a.mu_globalization;
     ipopt.print_level = options.verbose ? 5 : 0;
     return SolveDirectIpopt(v, track, mesh, guess, ipopt, summary);
   }

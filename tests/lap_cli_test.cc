@@ -398,9 +398,24 @@ TEST_F(LapCli, UnwritableOutputFolder) {
   ExpectBadInput(run, "missing-folder/lap.h5: cannot be written", "missing-folder/lap.h5");
 }
 
+// --mu-globalization reaches Ipopt (a value it rejects would throw, ipopt_direct_test) and either
+// value ends on the same lap here.
+TEST_F(LapCli, BothMuGlobalizationsSolveTheSameLap) {
+  const std::string road = Road("straight100.h5", StraightRoad(100.0));
+  const std::string options = road + " " + kBike + " --ds 4 -q --solver ipopt --mu-globalization ";
+  const CliRun filter = Lap(options + "obj-constr-filter", "filter.h5");
+  const CliRun kkt = Lap(options + "kkt-error", "kkt.h5");
+  ASSERT_EQ(filter.exit_code, 0) << filter.stderr_text;
+  ASSERT_EQ(kkt.exit_code, 0) << kkt.stderr_text;
+  const double t_filter = ttz::ArtefactReader(Path("filter.h5"), "ttz.lap", 3).ReadDoubleAttribute("lap_time");
+  const double t_kkt = ttz::ArtefactReader(Path("kkt.h5"), "ttz.lap", 3).ReadDoubleAttribute("lap_time");
+  EXPECT_NEAR(t_kkt, t_filter, 1e-6 * t_filter);
+}
+
 TEST_F(LapCli, BadOptions) {
   ExpectBadInput(Lap("road.h5 bike.yaml --ds -1"), "--ds");
   ExpectBadInput(Lap("road.h5 bike.yaml --solver newton"), "--solver");
+  ExpectBadInput(Lap("road.h5 bike.yaml --mu-globalization never"), "--mu-globalization");
   ExpectBadInput(Lap("road.h5 bike.yaml --dt-max -0.5"), "--dt-max: value -0.5 is not a non-negative number");
 }
 

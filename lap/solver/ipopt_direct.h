@@ -47,6 +47,14 @@ struct IpoptOptions {
   // Ipopt's `mu_strategy`: "adaptive" or "monotone". Both converge on the roads above;
   // adaptive took 8 and 60 iterations (straight, bend), monotone 131 and 203.
   std::string mu_strategy = "adaptive";
+  // Ipopt's `adaptive_mu_globalization`: how the adaptive strategy judges that a barrier value
+  // has made progress, "obj-constr-filter" (Ipopt's default) or "kkt-error". Neither is better on
+  // every lap (docs/lap.md, "Ipopt's barrier globalization"; whole course, 40 m with at most 1 s):
+  // with a pack a little short of what the lap at full current uses, the filter kept the barrier
+  // near 1e-3 for thousands of iterations (gear 3.4, 37 MJ: failed after 3000; gear 2.8, 30 MJ:
+  // 1211) where "kkt-error" took 345 and 324; with a pack far short the filter took 149-164 and
+  // "kkt-error" had not converged after 190.
+  std::string mu_globalization = "obj-constr-filter";
   // Check every constraint at the nodes 1..N as well as at the midpoints. With the midpoints alone
   // a state constrained there (the roll rate, say) may overshoot its limit at a node between two
   // midpoints where it is active, and lap.h5, which reports the nodes, shows the overshoot: on the

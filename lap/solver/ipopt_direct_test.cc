@@ -171,6 +171,9 @@ TEST(IpoptDirectTest, AnOptionIpoptRejectsIsAnError) {
   IpoptOptions unknown_strategy;
   unknown_strategy.mu_strategy = "sometimes";
   EXPECT_THROW(solve(unknown_strategy), std::invalid_argument);
+  IpoptOptions unknown_globalization;
+  unknown_globalization.mu_globalization = "sometimes";
+  EXPECT_THROW(solve(unknown_globalization), std::invalid_argument);
   EXPECT_NO_THROW(solve(IpoptOptions{}));
 }
 
