@@ -152,6 +152,8 @@ void WriteAttributes(ArtefactWriter& w, const LapSolution& sol, const SolveSumma
   w.WriteAttribute("mesh_ds_min", MinSpacing(sol.s));
   w.WriteAttribute("nodes", static_cast<int64_t>(sol.s.size()));
   w.WriteAttribute("solver", p.solver);
+  w.WriteAttribute("max_iterations", static_cast<int64_t>(p.max_iterations));
+  w.WriteAttribute("mu_globalization", p.mu_globalization);
   w.WriteAttribute("bike_yaml", p.bike_yaml);
   w.WriteAttribute("road_file", p.road_file);
   w.WriteAttribute("road_sha256", p.road_sha256);

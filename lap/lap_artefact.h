@@ -30,6 +30,8 @@ struct LapProvenance {
   std::string init_file;     // the --init file, "" when none
   MeshOptions mesh;          // how the mesh was built (--ds, --dt-max)
   bool mesh_from_init = false;  // the mesh is the --init file's (lap/main.cc, UseInitMesh)
+  int max_iterations = 0;    // the solver's iteration limit in effect (--max-iterations or its default)
+  std::string mu_globalization;  // Ipopt's adaptive_mu_globalization; "" for the indirect solver
 };
 
 // Writes atomically (ttz::ArtefactWriter); also when the solve did not converge. The costates

@@ -134,6 +134,15 @@ SolverGuess WarmStartGuess(const WarmStart& ws, const Vehicle& v, const std::vec
   return g;
 }
 
+// The options of --solver ipopt from the command line.
+IpoptOptions IpoptOptionsOf(const Arguments& a) {
+  IpoptOptions ipopt;
+  if (a.max_iterations > 0) ipopt.max_iterations = a.max_iterations;
+  ipopt.mu_globalization = a.mu_globalization;
+  ipopt.print_level = a.verbose && !a.json ? 5 : 0;  // Ipopt prints its iterations on stdout
+  return ipopt;
+}
+
 // The one place that dispatches on --solver.
 LapSolution Solve(const Arguments& a, const Vehicle& v, const RoadTrack& track, const std::vector<double>& mesh,
                   const QssLap& qss, const SolverGuess& guess, const IndirectOptions& options,
@@ -142,13 +151,7 @@ LapSolution Solve(const Arguments& a, const Vehicle& v, const RoadTrack& track, 
   o << a.road << ": " << mesh.size() << " nodes over " << track.Length() << " m, quasi-steady lap "
     << qss.lap_time << " s; solving with " << a.solver;
   ttz::Log(ttz::LogKind::kInfo, o.str());
-  if (a.solver == "ipopt") {
-    IpoptOptions ipopt;
-    if (a.max_iterations > 0) ipopt.max_iterations = a.max_iterations;
-    ipopt.mu_globalization = a.mu_globalization;
-    ipopt.print_level = options.verbose ? 5 : 0;
-    return SolveDirectIpopt(v, track, mesh, guess, ipopt, summary);
-  }
+  if (a.solver == "ipopt") return SolveDirectIpopt(v, track, mesh, guess, IpoptOptionsOf(a), summary);
   return SolveIndirect(v, track, mesh, guess.x, guess.lambda, guess.u, options, summary);
 }
 
@@ -168,15 +171,18 @@ int Run(const Arguments& a) {
   const QssLap qss = ComputeQss(v, track, mesh);
   IndirectOptions options;
   if (a.max_iterations > 0) options.max_iterations = a.max_iterations;
-  options.verbose = a.verbose && !a.json;  // Ceres and Ipopt print their iterations on stdout
+  options.verbose = a.verbose && !a.json;  // Ceres prints its iterations on stdout
   const SolverGuess guess =
       init ? WarmStartGuess(*init, v, mesh, qss, &options) : SolverGuess{qss.x, {}, qss.u, {}};
   SolveSummary summary;
   const LapSolution sol = Solve(a, v, track, mesh, qss, guess, options, &summary);
   const ResimReport resim = Resimulate(v, track, sol, ResimOptions{});
   const LapChannels channels = ComputeLapChannels(v, track, sol);
+  // lap.h5 records the solver's options in effect (--max-iterations or the solver's default).
+  const bool ipopt = a.solver == "ipopt";
   WriteLap(a.output, v, sol, summary, channels, qss, resim,
-           {a.solver, BikeToYaml(bike), a.road, road_sha256, track.Length(), a.init, a.mesh, mesh_from_init});
+           {a.solver, BikeToYaml(bike), a.road, road_sha256, track.Length(), a.init, a.mesh, mesh_from_init,
+            ipopt ? IpoptOptionsOf(a).max_iterations : options.max_iterations, ipopt ? a.mu_globalization : ""});
   std::cout << (a.json ? LapReportJson(sol, summary, channels.figures, resim)
                        : LapReportText(sol, summary, channels.figures, resim))
             << std::flush;

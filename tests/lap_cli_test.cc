@@ -13,6 +13,7 @@
 #include "common/artefact.h"
 #include "common/road_artefact.h"
 #include "lap/model/constraints.h"
+#include "lap/solver/ipopt_direct.h"
 
 namespace {
 
@@ -407,9 +408,21 @@ TEST_F(LapCli, BothMuGlobalizationsSolveTheSameLap) {
   const CliRun kkt = Lap(options + "kkt-error", "kkt.h5");
   ASSERT_EQ(filter.exit_code, 0) << filter.stderr_text;
   ASSERT_EQ(kkt.exit_code, 0) << kkt.stderr_text;
-  const double t_filter = ttz::ArtefactReader(Path("filter.h5"), "ttz.lap", 3).ReadDoubleAttribute("lap_time");
-  const double t_kkt = ttz::ArtefactReader(Path("kkt.h5"), "ttz.lap", 3).ReadDoubleAttribute("lap_time");
-  EXPECT_NEAR(t_kkt, t_filter, 1e-6 * t_filter);
+  const ttz::ArtefactReader filter_h5(Path("filter.h5"), "ttz.lap", 3), kkt_h5(Path("kkt.h5"), "ttz.lap", 3);
+  const double t_filter = filter_h5.ReadDoubleAttribute("lap_time");
+  EXPECT_NEAR(kkt_h5.ReadDoubleAttribute("lap_time"), t_filter, 1e-6 * t_filter);
+  EXPECT_EQ(filter_h5.ReadStringAttribute("mu_globalization"), "obj-constr-filter");
+  EXPECT_EQ(kkt_h5.ReadStringAttribute("mu_globalization"), "kkt-error");
+}
+
+TEST_F(LapCli, LapH5RecordsTheIterationLimitInEffect) {
+  const std::string road = Road("straight100.h5", StraightRoad(100.0));
+  ASSERT_EQ(Lap(road + " " + kBike + " --ds 4 -q --solver ipopt", "ipopt.h5").exit_code, 0);
+  ASSERT_EQ(Lap(road + " " + kBike + " --ds 4 -q --max-iterations 250", "indirect.h5").exit_code, 0);
+  const ttz::ArtefactReader ipopt(Path("ipopt.h5"), "ttz.lap", 3), indirect(Path("indirect.h5"), "ttz.lap", 3);
+  EXPECT_EQ(ipopt.ReadIntAttribute("max_iterations"), ttz::lap::IpoptOptions{}.max_iterations);
+  EXPECT_EQ(indirect.ReadIntAttribute("max_iterations"), 250);
+  EXPECT_EQ(indirect.ReadStringAttribute("mu_globalization"), "");
 }
 
 TEST_F(LapCli, BadOptions) {
