@@ -32,6 +32,8 @@ struct LapProvenance {
   bool mesh_from_init = false;  // the mesh is the --init file's (lap/main.cc, UseInitMesh)
   int max_iterations = 0;    // the solver's iteration limit in effect (--max-iterations or its default)
   std::string mu_globalization;  // Ipopt's adaptive_mu_globalization; "" for the indirect solver
+  std::string mu_strategy;       // Ipopt's mu_strategy; "" for the indirect solver
+  double mu_init = 0.0;          // Ipopt's mu_init [1]; 0 for the indirect solver
 };
 
 // Writes atomically (ttz::ArtefactWriter); also when the solve did not converge. The costates

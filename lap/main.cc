@@ -35,6 +35,8 @@ struct Arguments {
   MeshOptions mesh;
   int max_iterations = 0;  // 0: the solver's default
   std::string mu_globalization = IpoptOptions{}.mu_globalization;
+  std::string mu_strategy = IpoptOptions{}.mu_strategy;
+  double mu_init = IpoptOptions{}.mu_init;
   bool json = false, quiet = false, verbose = false;
 };
 
@@ -74,6 +76,14 @@ void DefineOptions(CLI::App& app, Arguments& a) {
                  "Ipopt's adaptive_mu_globalization (ipopt): kkt-error solves laps whose pack is a little short of "
                  "what the lap at full current uses (docs/lap.md)")
       ->check(CLI::IsMember({"obj-constr-filter", "kkt-error"}))
+      ->capture_default_str();
+  app.add_option("--mu-strategy", a.mu_strategy,
+                 "Ipopt's mu_strategy (ipopt): monotone with a small --mu-init solves from a neighbouring lap "
+                 "(--init) some laps the adaptive barrier does not (docs/lap.md)")
+      ->check(CLI::IsMember({"adaptive", "monotone"}))
+      ->capture_default_str();
+  app.add_option("--mu-init", a.mu_init, "Ipopt's mu_init (ipopt): the first barrier weight")
+      ->check(CLI::PositiveNumber)
       ->capture_default_str();
   app.add_flag("--json", a.json, "print the summary as one JSON object");
   auto* quiet = app.add_flag("-q,--quiet", a.quiet, "print warnings and errors only");
@@ -139,6 +149,8 @@ IpoptOptions IpoptOptionsOf(const Arguments& a) {
   IpoptOptions ipopt;
   if (a.max_iterations > 0) ipopt.max_iterations = a.max_iterations;
   ipopt.mu_globalization = a.mu_globalization;
+  ipopt.mu_strategy = a.mu_strategy;
+  ipopt.mu_init = a.mu_init;
   ipopt.print_level = a.verbose && !a.json ? 5 : 0;  // Ipopt prints its iterations on stdout
   return ipopt;
 }
@@ -182,7 +194,8 @@ int Run(const Arguments& a) {
   const bool ipopt = a.solver == "ipopt";
   WriteLap(a.output, v, sol, summary, channels, qss, resim,
            {a.solver, BikeToYaml(bike), a.road, road_sha256, track.Length(), a.init, a.mesh, mesh_from_init,
-            ipopt ? IpoptOptionsOf(a).max_iterations : options.max_iterations, ipopt ? a.mu_globalization : ""});
+            ipopt ? IpoptOptionsOf(a).max_iterations : options.max_iterations, ipopt ? a.mu_globalization : "",
+            ipopt ? a.mu_strategy : "", ipopt ? a.mu_init : 0.0});
   std::cout << (a.json ? LapReportJson(sol, summary, channels.figures, resim)
                        : LapReportText(sol, summary, channels.figures, resim))
             << std::flush;

@@ -415,6 +415,23 @@ TEST_F(LapCli, BothMuGlobalizationsSolveTheSameLap) {
   EXPECT_EQ(kkt_h5.ReadStringAttribute("mu_globalization"), "kkt-error");
 }
 
+// The monotone barrier from a small mu_init, what docs/lap.md uses from a neighbouring lap (--init).
+TEST_F(LapCli, AMonotoneBarrierFromTheLapItselfSolvesTheSameLap) {
+  const std::string road = Road("straight100.h5", StraightRoad(100.0));
+  const std::string options = road + " " + kBike + " --ds 4 -q --solver ipopt";
+  ASSERT_EQ(Lap(options, "adaptive.h5").exit_code, 0);
+  const CliRun monotone =
+      Lap(options + " --init " + Path("adaptive.h5") + " --mu-strategy monotone --mu-init 1e-4", "monotone.h5");
+  ASSERT_EQ(monotone.exit_code, 0) << monotone.stderr_text;
+  const ttz::ArtefactReader adaptive_h5(Path("adaptive.h5"), "ttz.lap", 3);
+  const ttz::ArtefactReader monotone_h5(Path("monotone.h5"), "ttz.lap", 3);
+  const double t = adaptive_h5.ReadDoubleAttribute("lap_time");
+  EXPECT_NEAR(monotone_h5.ReadDoubleAttribute("lap_time"), t, 1e-6 * t);
+  EXPECT_EQ(adaptive_h5.ReadStringAttribute("mu_strategy"), "adaptive");
+  EXPECT_EQ(monotone_h5.ReadStringAttribute("mu_strategy"), "monotone");
+  EXPECT_EQ(monotone_h5.ReadDoubleAttribute("mu_init"), 1e-4);
+}
+
 TEST_F(LapCli, LapH5RecordsTheIterationLimitInEffect) {
   const std::string road = Road("straight100.h5", StraightRoad(100.0));
   ASSERT_EQ(Lap(road + " " + kBike + " --ds 4 -q --solver ipopt", "ipopt.h5").exit_code, 0);
@@ -429,6 +446,8 @@ TEST_F(LapCli, BadOptions) {
   ExpectBadInput(Lap("road.h5 bike.yaml --ds -1"), "--ds");
   ExpectBadInput(Lap("road.h5 bike.yaml --solver newton"), "--solver");
   ExpectBadInput(Lap("road.h5 bike.yaml --mu-globalization never"), "--mu-globalization");
+  ExpectBadInput(Lap("road.h5 bike.yaml --mu-strategy sometimes"), "--mu-strategy");
+  ExpectBadInput(Lap("road.h5 bike.yaml --mu-init 0"), "--mu-init");
   ExpectBadInput(Lap("road.h5 bike.yaml --dt-max -0.5"), "--dt-max: value -0.5 is not a non-negative number");
 }
 

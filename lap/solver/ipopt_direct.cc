@@ -438,6 +438,7 @@ Ipopt::SmartPtr<Ipopt::IpoptApplication> MakeApplication(const IpoptOptions& o) 
   if (o.print_level == 0) Require(options.SetStringValue("sb", "yes"), "sb");  // no banner
   Require(options.SetStringValue("hessian_approximation", "exact"), "hessian_approximation");
   Require(options.SetStringValue("mu_strategy", o.mu_strategy), "mu_strategy");
+  Require(options.SetNumericValue("mu_init", o.mu_init), "mu_init");
   Require(options.SetStringValue("adaptive_mu_globalization", o.mu_globalization),
           "adaptive_mu_globalization");
   Require(options.SetStringValue("linear_solver", "mumps"), "linear_solver");

@@ -47,6 +47,11 @@ struct IpoptOptions {
   // Ipopt's `mu_strategy`: "adaptive" or "monotone". Both converge on the roads above;
   // adaptive took 8 and 60 iterations (straight, bend), monotone 131 and 203.
   std::string mu_strategy = "adaptive";
+  // Ipopt's `mu_init`, the first barrier weight (Ipopt's default 0.1). With "monotone" and 1e-4,
+  // gear 4.0 with a 30 MJ pack, warm-started from gear 3.7's lap, took 61 iterations where the
+  // adaptive barrier crawled with either globalization, cold or warm (docs/lap.md, "Ipopt's barrier
+  // globalization").
+  double mu_init = 0.1;
   // Ipopt's `adaptive_mu_globalization`: how the adaptive strategy judges that a barrier value
   // has made progress, "obj-constr-filter" (Ipopt's default) or "kkt-error". Neither is better on
   // every lap (docs/lap.md, "Ipopt's barrier globalization"; whole course, 40 m with at most 1 s):

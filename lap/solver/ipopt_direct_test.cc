@@ -174,6 +174,9 @@ TEST(IpoptDirectTest, AnOptionIpoptRejectsIsAnError) {
   IpoptOptions unknown_globalization;
   unknown_globalization.mu_globalization = "sometimes";
   EXPECT_THROW(solve(unknown_globalization), std::invalid_argument);
+  IpoptOptions no_barrier;
+  no_barrier.mu_init = 0.0;  // Ipopt's range: mu_init > 0
+  EXPECT_THROW(solve(no_barrier), std::invalid_argument);
   EXPECT_NO_THROW(solve(IpoptOptions{}));
 }
 
