@@ -72,18 +72,24 @@ for study in battery grid motors; do
   echo "$so_far" | grep -q "^$study: left out" || fail "report so far keeps $study: $so_far"
 done
 
-# An Ipopt solve not converged after FIRST_ITERATIONS iterations (here 2, too few for any lap) is
-# solved again with RETRY_FLAGS; the first attempt is kept beside the lap.
-run_make gear GEARS=3.2 FIRST_ITERATIONS=2 2> "$out/retry.log" > /dev/null
-grep -q "no convergence in 2 iterations; solving again with --mu-globalization kkt-error" "$out/retry.log" ||
-  fail "gear 3.2 was not retried: $(cat "$out/retry.log")"
+# An Ipopt solve not converged after ATTEMPT_ITERATIONS iterations (here 2, too few for any lap)
+# is solved again with RETRY_FLAGS, then from the nearest finished point of its study (gear 3.4)
+# with NEIGHBOUR_FLAGS; the attempts set aside stay beside the lap.
+run_make gear GEARS=3.2 ATTEMPT_ITERATIONS=2 2> "$out/retry.log" > /dev/null
+for note in "no convergence in 2 iterations; solving again with --mu-globalization kkt-error" \
+    "no convergence with --mu-globalization kkt-error; solving again with --init $d/studies/gear/3.4/lap.h5 --mu-strategy monotone"; do
+  grep -q -- "$note" "$out/retry.log" || fail "gear 3.2 was not retried as expected: $(cat "$out/retry.log")"
+done
 /usr/bin/python3 - "$d/studies/gear/3.2" <<'PY'
 import sys, h5py
 point = sys.argv[1]
 text = lambda v: v.decode() if isinstance(v, bytes) else str(v)
-with h5py.File(f"{point}/lap-first-attempt.h5") as first, h5py.File(f"{point}/lap.h5") as lap:
+with h5py.File(f"{point}/lap-first-attempt.h5") as first, h5py.File(f"{point}/lap-second-attempt.h5") as second, \
+        h5py.File(f"{point}/lap.h5") as lap:
     assert first.attrs["converged"] == 0 and first.attrs["max_iterations"] == 2, dict(first.attrs)
     assert text(first.attrs["mu_globalization"]) == "obj-constr-filter"
-    assert lap.attrs["converged"] == 1 and text(lap.attrs["mu_globalization"]) == "kkt-error"
+    assert second.attrs["converged"] == 0 and text(second.attrs["mu_globalization"]) == "kkt-error"
+    assert lap.attrs["converged"] == 1 and text(lap.attrs["mu_strategy"]) == "monotone", dict(lap.attrs)
+    assert lap.attrs["mu_init"] == 1e-4 and text(lap.attrs["init_file"]).endswith("gear/3.4/lap.h5")
 PY
 echo "pipeline on 3 km: ok"
