@@ -75,9 +75,10 @@ done
 # An Ipopt solve not converged after ATTEMPT_ITERATIONS iterations (here 2, too few for any lap)
 # is solved again with RETRY_FLAGS, then from the nearest finished point of its study (gear 3.4)
 # with NEIGHBOUR_FLAGS; the attempts set aside stay beside the lap.
-run_make gear GEARS=3.2 ATTEMPT_ITERATIONS=2 2> "$out/retry.log" > /dev/null
-for note in "no convergence in 2 iterations; solving again with --mu-globalization kkt-error" \
-    "no convergence with --mu-globalization kkt-error; solving again with --init $d/studies/gear/3.4/lap.h5 --mu-strategy monotone"; do
+run_make gear GEARS=3.2 ATTEMPT_ITERATIONS=2 2> "$out/retry.log" > /dev/null ||
+  fail "the retried gear 3.2: $(cat "$out/retry.log")"
+for note in "not converged (exit 3) in 2 iterations; solving again with --mu-globalization kkt-error" \
+    "not converged with --mu-globalization kkt-error; solving again with --init $d/studies/gear/3.4/lap.h5 --mu-strategy monotone"; do
   grep -q -- "$note" "$out/retry.log" || fail "gear 3.2 was not retried as expected: $(cat "$out/retry.log")"
 done
 /usr/bin/python3 - "$d/studies/gear/3.2" <<'PY'

@@ -49,8 +49,8 @@ struct IpoptOptions {
   std::string mu_strategy = "adaptive";
   // Ipopt's `mu_init`, the first barrier weight (Ipopt's default 0.1). With "monotone" and 1e-4,
   // gear 4.0 with a 30 MJ pack, warm-started from gear 3.7's lap, took 61 iterations where the
-  // adaptive barrier crawled with either globalization, cold or warm (docs/lap.md, "Ipopt's barrier
-  // globalization").
+  // adaptive barrier crawled (cold with either globalization, warm with the default; docs/lap.md,
+  // "A monotone barrier from a neighbouring lap").
   double mu_init = 0.1;
   // Ipopt's `adaptive_mu_globalization`: how the adaptive strategy judges that a barrier value
   // has made progress, "obj-constr-filter" (Ipopt's default) or "kkt-error". Neither is better on
