@@ -36,7 +36,9 @@ Writes into OUTDIR (created if missing), each file atomically:
                      difference too; for percentages the difference in percentage points too),
                      a table of every point, the points that did not converge, and what the
                      studies cost to solve (each lap's `iterations` and `solve_seconds`; a lap
-                     that several studies share, e.g. a copy of the reference lap, counts once)
+                     that several studies share, e.g. a copy of the reference lap, counts once;
+                     beside a lap.h5, the attempts the pipeline set aside before it,
+                     lap-first-attempt.h5 and lap-second-attempt.h5, count with it)
 It prints one summary line per study and one of the solve cost.
 
 Definitions:
@@ -136,6 +138,7 @@ class Point:
         timed = "iterations" in lap.h5.attrs and "solve_seconds" in lap.h5.attrs
         self.iterations = lap.attr("iterations", int) if timed else None
         self.solve_seconds = lap.attr("solve_seconds") if timed else None
+        self.attempts = set_aside_attempts(path)
 
     @property
     def solve_key(self):
@@ -196,6 +199,27 @@ def powertrain_efficiency(t, wheel, battery):
     """Energy to the wheel over energy drawn from the pack, positive parts only [1]."""
     drawn = np.trapz(np.maximum(battery, 0.0), t)
     return float(np.trapz(np.maximum(wheel, 0.0), t) / drawn) if drawn > 0 else math.nan
+
+
+# The attempts pipelines/Makefile sets aside beside a point's lap.h5 before it solves it again.
+ATTEMPT_FILES = ("lap-first-attempt.h5", "lap-second-attempt.h5")
+
+
+def set_aside_attempts(path):
+    """[(iterations, solve_seconds)] of the attempts set aside beside `path` when it is a
+    lap.h5 (pipelines/Makefile, "Retrying a solve")."""
+    if os.path.basename(path) != "lap.h5":
+        return []
+    attempts = []
+    for name in ATTEMPT_FILES:
+        attempt_path = os.path.join(os.path.dirname(path), name)
+        if os.path.exists(attempt_path):
+            attempt = ttz_h5.open_lap(attempt_path)
+            try:
+                attempts.append((attempt.attr("iterations", int), attempt.attr("solve_seconds")))
+            finally:
+                attempt.h5.close()
+    return attempts
 
 
 def read_point(path, channels):
@@ -650,6 +674,11 @@ def cost_section(studies):
     """report.md section and summary line of the solve cost: per study its laps not already
     counted for a study before it, their iterations and solve time (lap.h5's solve_seconds: the
     wall time of each solve, with whatever shared the machine then)."""
+    # a copy has no attempts beside it: a solve's attempts are those of any point that has it
+    attempts = {}
+    for p in (p for points in studies.values() for p in points):
+        if p.attempts:
+            attempts[p.solve_key] = p.attempts
     counted, rows, untimed = set(), [], 0
     for study, points in studies.items():
         new = []
@@ -659,20 +688,26 @@ def cost_section(studies):
             elif p.solve_key not in counted:
                 counted.add(p.solve_key)
                 new.append(p)
-        rows.append([study, len(points), len(new), sum(p.iterations for p in new),
-                     sum(p.solve_seconds for p in new) / 3600])
-    total_laps, total_iterations, total_hours = (sum(row[k] for row in rows) for k in (2, 3, 4))
-    rows.append(["all", sum(row[1] for row in rows), total_laps, total_iterations, total_hours])
-    rows = [row[:4] + [f"{row[4]:.2f}"] for row in rows]
+        tried = [a for p in new for a in attempts.get(p.solve_key, [])]
+        rows.append([study, len(points), len(new), len(tried),
+                     sum(p.iterations for p in new) + sum(a[0] for a in tried),
+                     (sum(p.solve_seconds for p in new) + sum(a[1] for a in tried)) / 3600])
+    totals = [sum(row[k] for row in rows) for k in (2, 3, 4, 5)]
+    rows.append(["all", sum(row[1] for row in rows), *totals])
+    rows = [row[:5] + [f"{row[5]:.2f}"] for row in rows]
     lines = ["## Solve cost", "",
              "Each lap's `solve_seconds` is the wall time of its solve, with whatever else shared "
              "the machine then; a lap shared by several points (the same lap time, iterations and "
-             "solve time: a copy) counts once, for the first study that has it. `make -j2` "
-             "solves two laps at once.", ""]
-    lines += table(["study", "points", "laps solved", "iterations", "solve time h"], rows)
+             "solve time: a copy) counts once, for the first study that has it. The attempts the "
+             "pipeline set aside before a lap (lap-first-attempt.h5, lap-second-attempt.h5 beside "
+             "its lap.h5) count with it. `make -j2` solves two laps at once.", ""]
+    lines += table(["study", "points", "laps solved", "attempts set aside", "iterations",
+                    "solve time h"], rows)
     if untimed:
         lines += ["", f"Points without `iterations`/`solve_seconds`, not counted: {untimed}."]
-    summary = f"solve cost: {total_laps} laps, {total_iterations} iterations, {total_hours:.2f} h"
+    total_laps, total_attempts, total_iterations, total_hours = totals
+    summary = (f"solve cost: {total_laps} laps, {total_iterations} iterations, {total_hours:.2f} h"
+               + (f" ({total_attempts} attempts set aside included)" if total_attempts else ""))
     return lines + [""], summary
 
 

@@ -176,11 +176,33 @@ class StudyReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
         report = self.read("report.md")
         # gear: 100 + 200 + 300 iterations, 1800 + 3600 + 5400 s = 3 h; battery: the copy of
         # g2.8 counted already, b30 untimed, so b37 alone: 50 iterations, 0.2 h
-        self.assertIn("| gear | 3 | 3 | 600 | 3.00 |", report)
-        self.assertIn("| battery | 3 | 1 | 50 | 0.20 |", report)
-        self.assertIn("| all | 6 | 4 | 650 | 3.20 |", report)
+        self.assertIn("| gear | 3 | 3 | 0 | 600 | 3.00 |", report)
+        self.assertIn("| battery | 3 | 1 | 0 | 50 | 0.20 |", report)
+        self.assertIn("| all | 6 | 4 | 0 | 650 | 3.20 |", report)
         self.assertIn("Points without `iterations`/`solve_seconds`, not counted: 1.", report)
         self.assertEqual(result.stdout.splitlines()[2], "solve cost: 4 laps, 650 iterations, 3.20 h")
+
+    def test_solve_cost_counts_the_attempts_set_aside_with_their_lap(self):
+        # pipeline layout: gear 3.4 solved at its third attempt, battery/51 a copy of gear 2.8
+        def point(folder, lap_time, **values):
+            os.makedirs(self.path(folder))
+            return write_point(self.path(folder, "lap.h5"), lap_time, 36e6, **values)
+        gear = [point("gear/2.8", gear_lap_time(2.8), gear=2.8, timed=(100, 360.0)),
+                point("gear/3.4", gear_lap_time(3.4), gear=3.4, timed=(60, 180.0))]
+        for name, timed in (("first", (800, 1800.0)), ("second", (800, 1620.0))):
+            write_point(self.path("gear/3.4", f"lap-{name}-attempt.h5"), 1500.0, 36e6, converged=0,
+                        gear=3.4, timed=timed)
+        os.makedirs(self.path("battery/51"))
+        battery = [shutil.copy(gear[0], self.path("battery/51", "lap.h5")),
+                   point("battery/37", 1790.0, cell_j=37e6 / 96, timed=(50, 720.0))]
+        result = fx.run("study_report.py", "--gear", *gear, "--battery", *battery, "-o", self.out)
+        self.assert_ok(result)
+        report = self.read("report.md")
+        # gear: 100 + 60 + 800 + 800 iterations, 360 + 180 + 1800 + 1620 s = 1.10 h
+        self.assertIn("| gear | 2 | 2 | 2 | 1760 | 1.10 |", report)
+        self.assertIn("| all | 4 | 3 | 2 | 1810 | 1.30 |", report)
+        self.assertEqual(result.stdout.splitlines()[2],
+                         "solve cost: 3 laps, 1810 iterations, 1.30 h (2 attempts set aside included)")
 
     def test_incomplete_grid_with_unconverged_point(self):
         paths = self.grid_study(skip={(3.6, 47.0)})
