@@ -152,10 +152,10 @@ void WriteAttributes(ArtefactWriter& w, const LapSolution& sol, const SolveSumma
   w.WriteAttribute("mesh_ds_min", MinSpacing(sol.s));
   w.WriteAttribute("nodes", static_cast<int64_t>(sol.s.size()));
   w.WriteAttribute("solver", p.solver);
-  w.WriteAttribute("max_iterations", static_cast<int64_t>(p.max_iterations));
-  w.WriteAttribute("mu_globalization", p.mu_globalization);
-  w.WriteAttribute("mu_strategy", p.mu_strategy);
-  w.WriteAttribute("mu_init", p.mu_init);
+  w.WriteAttribute("max_iterations", static_cast<int64_t>(p.solver_options.max_iterations));
+  w.WriteAttribute("mu_globalization", p.solver_options.mu_globalization);
+  w.WriteAttribute("mu_strategy", p.solver_options.mu_strategy);
+  w.WriteAttribute("mu_init", p.solver_options.mu_init);
   w.WriteAttribute("bike_yaml", p.bike_yaml);
   w.WriteAttribute("road_file", p.road_file);
   w.WriteAttribute("road_sha256", p.road_sha256);

@@ -20,6 +20,14 @@ inline constexpr const char* kLapSchema = "ttz.lap";
 inline constexpr int kLapSchemaVersion = 3;  // 2: Omega_z a state, dOmega_z_dt a control; 3: control_interval
 inline constexpr int kLapOldestWarmStartVersion = 2;  // --init reads version 2 too (no control_interval)
 
+// The options the solver ran with, as lap.h5 records them.
+struct LapSolverOptions {
+  int max_iterations = 0;        // the iteration limit in effect (--max-iterations or the solver's default)
+  std::string mu_globalization;  // Ipopt's adaptive_mu_globalization; "" for the indirect solver
+  std::string mu_strategy;       // Ipopt's mu_strategy; "" for the indirect solver
+  double mu_init = 0.0;          // Ipopt's mu_init [1]; 0 for the indirect solver
+};
+
 // What lap.h5 records about the run besides the solution.
 struct LapProvenance {
   std::string solver;        // "indirect" or "ipopt"
@@ -30,10 +38,7 @@ struct LapProvenance {
   std::string init_file;     // the --init file, "" when none
   MeshOptions mesh;          // how the mesh was built (--ds, --dt-max)
   bool mesh_from_init = false;  // the mesh is the --init file's (lap/main.cc, UseInitMesh)
-  int max_iterations = 0;    // the solver's iteration limit in effect (--max-iterations or its default)
-  std::string mu_globalization;  // Ipopt's adaptive_mu_globalization; "" for the indirect solver
-  std::string mu_strategy;       // Ipopt's mu_strategy; "" for the indirect solver
-  double mu_init = 0.0;          // Ipopt's mu_init [1]; 0 for the indirect solver
+  LapSolverOptions solver_options;
 };
 
 // Writes atomically (ttz::ArtefactWriter); also when the solve did not converge. The costates

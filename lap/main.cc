@@ -155,15 +155,21 @@ IpoptOptions IpoptOptionsOf(const Arguments& a) {
   return ipopt;
 }
 
+// What lap.h5 records of the options the solver ran with (docs/lap_h5.md).
+LapSolverOptions SolverOptionsOf(const Arguments& a, const IpoptOptions& ipopt, const IndirectOptions& indirect) {
+  if (a.solver != "ipopt") return {indirect.max_iterations, "", "", 0.0};
+  return {ipopt.max_iterations, ipopt.mu_globalization, ipopt.mu_strategy, ipopt.mu_init};
+}
+
 // The one place that dispatches on --solver.
 LapSolution Solve(const Arguments& a, const Vehicle& v, const RoadTrack& track, const std::vector<double>& mesh,
-                  const QssLap& qss, const SolverGuess& guess, const IndirectOptions& options,
-                  SolveSummary* summary) {
+                  const QssLap& qss, const SolverGuess& guess, const IpoptOptions& ipopt,
+                  const IndirectOptions& options, SolveSummary* summary) {
   std::ostringstream o;
   o << a.road << ": " << mesh.size() << " nodes over " << track.Length() << " m, quasi-steady lap "
     << qss.lap_time << " s; solving with " << a.solver;
   ttz::Log(ttz::LogKind::kInfo, o.str());
-  if (a.solver == "ipopt") return SolveDirectIpopt(v, track, mesh, guess, IpoptOptionsOf(a), summary);
+  if (a.solver == "ipopt") return SolveDirectIpopt(v, track, mesh, guess, ipopt, summary);
   return SolveIndirect(v, track, mesh, guess.x, guess.lambda, guess.u, options, summary);
 }
 
@@ -186,16 +192,14 @@ int Run(const Arguments& a) {
   options.verbose = a.verbose && !a.json;  // Ceres prints its iterations on stdout
   const SolverGuess guess =
       init ? WarmStartGuess(*init, v, mesh, qss, &options) : SolverGuess{qss.x, {}, qss.u, {}};
+  const IpoptOptions ipopt = IpoptOptionsOf(a);
   SolveSummary summary;
-  const LapSolution sol = Solve(a, v, track, mesh, qss, guess, options, &summary);
+  const LapSolution sol = Solve(a, v, track, mesh, qss, guess, ipopt, options, &summary);
   const ResimReport resim = Resimulate(v, track, sol, ResimOptions{});
   const LapChannels channels = ComputeLapChannels(v, track, sol);
-  // lap.h5 records the solver's options in effect (--max-iterations or the solver's default).
-  const bool ipopt = a.solver == "ipopt";
   WriteLap(a.output, v, sol, summary, channels, qss, resim,
            {a.solver, BikeToYaml(bike), a.road, road_sha256, track.Length(), a.init, a.mesh, mesh_from_init,
-            ipopt ? IpoptOptionsOf(a).max_iterations : options.max_iterations, ipopt ? a.mu_globalization : "",
-            ipopt ? a.mu_strategy : "", ipopt ? a.mu_init : 0.0});
+            SolverOptionsOf(a, ipopt, options)});
   std::cout << (a.json ? LapReportJson(sol, summary, channels.figures, resim)
                        : LapReportText(sol, summary, channels.figures, resim))
             << std::flush;
