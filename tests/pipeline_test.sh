@@ -36,6 +36,12 @@ echo "$plan" | grep -q "^cp $d/studies/battery/37/lap.h5 $d/studies/grid/2.8_37/
 solved=$(echo "$plan" | grep -o "studies/[a-z]*/[0-9._]*/lap-attempt.h5" | sort -u | tr '\n' ' ')
 [ "$solved" = "studies/battery/37/lap-attempt.h5 studies/gear/3.0/lap-attempt.h5 studies/grid/3.0_37/lap-attempt.h5 studies/motors/3_4/lap-attempt.h5 studies/motors/3_5/lap-attempt.h5 " ] ||
   fail "the dry run solves $solved"
+# The battery study and the grid are solved from the largest pack down.
+order=$(run_make -n battery grid PACK_MJ="30 60 42" GRID_GEARS="3.0 3.4" GRID_MJ="37 60" |
+  grep -o "studies/[a-z]*/[0-9._]*/lap-attempt.h5 " | uniq | tr -d '\n')
+[ "$order" = "studies/battery/60/lap-attempt.h5 studies/battery/42/lap-attempt.h5 studies/battery/30/lap-attempt.h5 \
+studies/grid/3.0_60/lap-attempt.h5 studies/grid/3.4_60/lap-attempt.h5 studies/grid/3.0_37/lap-attempt.h5 \
+studies/grid/3.4_37/lap-attempt.h5 " ] || fail "the order of the solves: $order"
 # QUICK=yes: every point on the quick mesh into studies-quick/, the bike's own points copies of its
 # gear point there (not of the reference lap).
 plan=$(run_make -n motors grid QUICK=yes GRID_GEARS="2.8 3.0" GRID_MJ="51")
@@ -55,8 +61,12 @@ study = sys.argv[1]
 with h5py.File(f"{study}/3.0/lap.h5") as a, h5py.File(f"{study}/3.4/lap.h5") as b:
     inits = [a.attrs["init_file"], b.attrs["init_file"]]
     inits = [i.decode() if isinstance(i, bytes) else str(i) for i in inits]
-    # the first point cold-starts, the second from the first
+    # the first point cold-starts with Ipopt's default barrier, the second from the first with
+    # NEIGHBOUR_FLAGS (a monotone barrier from 1e-4)
     assert inits[0] == "" and inits[1].endswith("gear/3.0/lap.h5"), inits
+    text = lambda v: v.decode() if isinstance(v, bytes) else str(v)
+    assert text(a.attrs["mu_strategy"]) == "adaptive", dict(a.attrs)
+    assert text(b.attrs["mu_strategy"]) == "monotone" and b.attrs["mu_init"] == 1e-4, dict(b.attrs)
     assert "gear_ratio: 3.4" in (b.attrs["bike_yaml"].decode() if isinstance(b.attrs["bike_yaml"], bytes) else b.attrs["bike_yaml"])
     print("gear 3.0:", a.attrs["lap_time"], "s; gear 3.4:", b.attrs["lap_time"], "s")
 PY
@@ -73,12 +83,13 @@ for study in battery grid motors; do
 done
 
 # An Ipopt solve not converged after ATTEMPT_ITERATIONS iterations (here 2, too few for any lap)
-# is solved again with RETRY_FLAGS, then from the nearest finished point of its study (gear 3.4)
-# with NEIGHBOUR_FLAGS; the attempts set aside stay beside the lap.
+# is solved again from the nearest finished point of its study (gear 3.4) with NEIGHBOUR_FLAGS,
+# again for ATTEMPT_ITERATIONS, then from the QSS guess with RETRY_FLAGS; the attempts set aside
+# stay beside the lap.
 run_make gear GEARS=3.2 ATTEMPT_ITERATIONS=2 2> "$out/retry.log" > /dev/null ||
   fail "the retried gear 3.2: $(cat "$out/retry.log")"
-for note in "not converged (exit 3) in 2 iterations; solving again with --mu-globalization kkt-error" \
-    "not converged with --mu-globalization kkt-error; solving again with --init $d/studies/gear/3.4/lap.h5 --mu-strategy monotone"; do
+for note in "not converged (exit 3); solving again with --init $d/studies/gear/3.4/lap.h5 --mu-strategy monotone --mu-init 1e-4 --max-iterations 2" \
+    "not converged (exit 3); solving again from the QSS guess with --mu-globalization kkt-error"; do
   grep -q -- "$note" "$out/retry.log" || fail "gear 3.2 was not retried as expected: $(cat "$out/retry.log")"
 done
 /usr/bin/python3 - "$d/studies/gear/3.2" <<'PY'
@@ -88,9 +99,21 @@ text = lambda v: v.decode() if isinstance(v, bytes) else str(v)
 with h5py.File(f"{point}/lap-first-attempt.h5") as first, h5py.File(f"{point}/lap-second-attempt.h5") as second, \
         h5py.File(f"{point}/lap.h5") as lap:
     assert first.attrs["converged"] == 0 and first.attrs["max_iterations"] == 2, dict(first.attrs)
-    assert text(first.attrs["mu_globalization"]) == "obj-constr-filter"
-    assert second.attrs["converged"] == 0 and text(second.attrs["mu_globalization"]) == "kkt-error"
-    assert lap.attrs["converged"] == 1 and text(lap.attrs["mu_strategy"]) == "monotone", dict(lap.attrs)
-    assert lap.attrs["mu_init"] == 1e-4 and text(lap.attrs["init_file"]).endswith("gear/3.4/lap.h5")
+    assert text(first.attrs["mu_globalization"]) == "obj-constr-filter" and text(first.attrs["init_file"]) == ""
+    assert second.attrs["converged"] == 0 and second.attrs["max_iterations"] == 2, dict(second.attrs)
+    assert text(second.attrs["mu_strategy"]) == "monotone" and second.attrs["mu_init"] == 1e-4
+    assert text(second.attrs["init_file"]).endswith("gear/3.4/lap.h5")
+    assert lap.attrs["converged"] == 1 and text(lap.attrs["mu_globalization"]) == "kkt-error", dict(lap.attrs)
+    assert text(lap.attrs["init_file"]) == "" and text(lap.attrs["mu_strategy"]) == "adaptive"
 PY
+# With no other point of its study solved, the second attempt is RETRY_FLAGS' and there is no
+# third: make fails with the last attempt kept as lap-failed.h5.
+! run_make battery PACK_MJ=45 ATTEMPT_ITERATIONS=2 2> "$out/alone.log" > /dev/null ||
+  fail "battery 45 converged in 2 iterations"
+grep -q "solving again from the QSS guess with --mu-globalization kkt-error --max-iterations 2" "$out/alone.log" &&
+  grep -q "no other point of the study has a lap to start from" "$out/alone.log" ||
+  fail "battery 45 was not retried as expected: $(cat "$out/alone.log")"
+p=$d/studies/battery/45
+[ -s "$p/lap-failed.h5" ] && [ -s "$p/lap-first-attempt.h5" ] && [ ! -e "$p/lap.h5" ] ||
+  fail "battery 45 left: $(ls "$p")"
 echo "pipeline on 3 km: ok"
