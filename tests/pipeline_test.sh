@@ -1,7 +1,8 @@
 #!/bin/sh
 # The TT Zero pipeline (pipelines/Makefile) on the first 3 km of the Snaefell course, so that CI
-# exercises it end to end: course -> road.h5 -> reference lap -> plots, then a two-point gear study
-# whose second point is warm-started from the first, and the report of the studies so far.
+# exercises it end to end: course -> road.h5 -> reference lap -> plots, then two-point gear and
+# battery studies (the second battery point warm-started from the first), the report of the
+# studies so far, and the retries of a solve.
 # Usage: pipeline_test.sh BUILD_DIR SHARED_DATA
 set -eu
 build=$1 shared=$2
@@ -53,32 +54,39 @@ solved=$(echo "$plan" | grep -- "--ds 40 --dt-max 1" | grep -o "studies-quick/[a
 [ "$solved" = 4 ] || fail "the quick dry run solves $solved points on the quick mesh, not 4"
 ! echo "$plan" | grep -q "reference/lap" || fail "the quick studies use the reference lap"
 
-run_make gear GEARS="3.0 3.4" WARM_START=yes -j1
-for g in 3.0 3.4; do [ -s "$d/studies/gear/$g/lap.h5" ] || fail "gear $g: no lap.h5"; done
-/usr/bin/python3 - "$d/studies/gear" <<'PY'
+# WARM_START=yes: the gear study starts cold; the battery study from the largest pack down, each
+# point after the first from its nearest solved neighbour with NEIGHBOUR_FLAGS (a monotone barrier
+# from 1e-4).
+run_make gear battery GEARS="3.0 3.4" PACK_MJ="40 45" WARM_START=yes -j1
+for p in gear/3.0 gear/3.4 battery/40 battery/45; do [ -s "$d/studies/$p/lap.h5" ] || fail "$p: no lap.h5"; done
+/usr/bin/python3 - "$d/studies" <<'PY'
 import sys, h5py
-study = sys.argv[1]
-with h5py.File(f"{study}/3.0/lap.h5") as a, h5py.File(f"{study}/3.4/lap.h5") as b:
-    inits = [a.attrs["init_file"], b.attrs["init_file"]]
-    inits = [i.decode() if isinstance(i, bytes) else str(i) for i in inits]
-    # the first point cold-starts with Ipopt's default barrier, the second from the first with
-    # NEIGHBOUR_FLAGS (a monotone barrier from 1e-4)
-    assert inits[0] == "" and inits[1].endswith("gear/3.0/lap.h5"), inits
-    text = lambda v: v.decode() if isinstance(v, bytes) else str(v)
-    assert text(a.attrs["mu_strategy"]) == "adaptive", dict(a.attrs)
-    assert text(b.attrs["mu_strategy"]) == "monotone" and b.attrs["mu_init"] == 1e-4, dict(b.attrs)
-    assert "gear_ratio: 3.4" in (b.attrs["bike_yaml"].decode() if isinstance(b.attrs["bike_yaml"], bytes) else b.attrs["bike_yaml"])
-    print("gear 3.0:", a.attrs["lap_time"], "s; gear 3.4:", b.attrs["lap_time"], "s")
+studies = sys.argv[1]
+text = lambda v: v.decode() if isinstance(v, bytes) else str(v)
+for point, init, strategy in (("gear/3.0", "", "adaptive"), ("gear/3.4", "", "adaptive"),
+                              ("battery/45", "", "adaptive"), ("battery/40", "battery/45/lap.h5", "monotone")):
+    with h5py.File(f"{studies}/{point}/lap.h5") as lap:
+        a = lap.attrs
+        assert text(a["init_file"]).endswith(init) and (init or text(a["init_file"]) == ""), (point, dict(a))
+        assert text(a["mu_strategy"]) == strategy, (point, dict(a))
+        assert strategy == "adaptive" or a["mu_init"] == 1e-4, (point, dict(a))
+        print(point, a["lap_time"], "s")
 PY
+# The grid's warm start is along the pack: the same gear's lap, though another gear's is nearer.
+plan=$(run_make -n grid GRID_GEARS="3.0 3.4" GRID_MJ="40" WARM_START=yes)
+echo "$plan" | grep -q "nearest_lap.py $d/studies/grid/3.0_40 --along 2" || fail "the grid's warm start: $plan"
 # The report so far: a point not copied yet stands in by the lap it will copy (grid 2.8_51 by the
 # reference lap, 3.4_51 by gear 3.4); 2.8_37 and 3.4_37 are not solved.
 grid=$(run_make -n report-so-far GRID_GEARS="2.8 3.4" GRID_MJ="37 51" | grep -o -- "--grid [^\\]*")
 [ "$grid" = "--grid $d/reference/lap.h5 $d/studies/gear/3.4/lap.h5 " ] || fail "report so far: $grid"
-# Gear 2.8 is the reference lap; the other studies have fewer than two points (the grid's two have
-# the same pack) and are left out.
+# Gear 2.8 is the reference lap; the grid and motors have fewer than two points (the grid's two
+# have the same pack) and are left out.
 so_far=$(run_make report-so-far GEARS="2.8 3.0 3.4")
-grep -q "^## Gear ratio (Fig. 12): 3 points" "$d/studies/report-so-far/report.md" || fail "report so far: $so_far"
-for study in battery grid motors; do
+# The battery study has its two points and the reference lap at 51 MJ.
+for heading in "Gear ratio (Fig. 12): 3 points" "Battery pack (Fig. 14): 3 points"; do
+  grep -q "^## $heading" "$d/studies/report-so-far/report.md" || fail "report so far: $so_far"
+done
+for study in grid motors; do
   echo "$so_far" | grep -q "^$study: left out" || fail "report so far keeps $study: $so_far"
 done
 
@@ -108,12 +116,12 @@ with h5py.File(f"{point}/lap-first-attempt.h5") as first, h5py.File(f"{point}/la
 PY
 # With no other point of its study solved, the second attempt is RETRY_FLAGS' and there is no
 # third: make fails with the last attempt kept as lap-failed.h5.
-! run_make battery PACK_MJ=45 ATTEMPT_ITERATIONS=2 2> "$out/alone.log" > /dev/null ||
-  fail "battery 45 converged in 2 iterations"
+! run_make "$d/studies/motors/3_4/lap.h5" ATTEMPT_ITERATIONS=2 2> "$out/alone.log" > /dev/null ||
+  fail "motors 3_4 converged in 2 iterations"
 grep -q "solving again from the QSS guess with --mu-globalization kkt-error --max-iterations 2" "$out/alone.log" &&
   grep -q "no other point of the study has a lap to start from" "$out/alone.log" ||
-  fail "battery 45 was not retried as expected: $(cat "$out/alone.log")"
-p=$d/studies/battery/45
+  fail "motors 3_4 was not retried as expected: $(cat "$out/alone.log")"
+p=$d/studies/motors/3_4
 [ -s "$p/lap-failed.h5" ] && [ -s "$p/lap-first-attempt.h5" ] && [ ! -e "$p/lap.h5" ] ||
-  fail "battery 45 left: $(ls "$p")"
+  fail "motors 3_4 left: $(ls "$p")"
 echo "pipeline on 3 km: ok"
