@@ -13,6 +13,7 @@ in the grid: the same gear, another pack). Nothing is printed when no such sibli
 """
 import argparse
 import os
+import sys
 
 
 def values(name):
@@ -42,11 +43,12 @@ def main():
     if target is None or not os.path.isdir(study):
         return
     if args.along is not None and not 1 <= args.along <= len(target):
-        parser.error(f"--along {args.along}: {name} has {len(target)} value(s)")
-    done = [(distance(values(n), target), values(n), os.path.join(study, n, "lap.h5"))
-            for n in sorted(os.listdir(study))
-            if n != name and values(n) is not None and len(values(n)) == len(target)
-            and on_line(values(n), target, args.along)
+        sys.stderr.write(f"nearest_lap.py: --along {args.along}: {name} has {len(target)} value(s)\n")
+        sys.exit(2)
+    siblings = {n: values(n) for n in os.listdir(study) if n != name}
+    done = [(distance(v, target), v, os.path.join(study, n, "lap.h5"))
+            for n, v in sorted(siblings.items())
+            if v is not None and len(v) == len(target) and on_line(v, target, args.along)
             and os.path.isfile(os.path.join(study, n, "lap.h5"))]
     if done:
         print("--init", min(done)[2])
