@@ -124,4 +124,9 @@ grep -q "solving again from the QSS guess with --mu-globalization kkt-error --ma
 p=$d/studies/motors/3_4
 [ -s "$p/lap-failed.h5" ] && [ -s "$p/lap-first-attempt.h5" ] && [ ! -e "$p/lap.h5" ] ||
   fail "motors 3_4 left: $(ls "$p")"
+# Under make -j2 a point waits for the point before it along the pack: 60 MJ starts from the copy
+# of the gear study's 51 MJ point, which make would otherwise copy only after launching 60's solve.
+run_make grid GRID_GEARS="4.0" GRID_MJ="60 51" WARM_START=yes -j2
+init=$(/usr/bin/python3 -c 'import sys, h5py; v = h5py.File(sys.argv[1]).attrs["init_file"]; print(v.decode() if isinstance(v, bytes) else v)' "$d/studies/grid/4.0_60/lap.h5")
+[ "$init" = "$d/studies/grid/4.0_51/lap.h5" ] || fail "grid 4.0_60 started from '$init', not from 4.0_51"
 echo "pipeline on 3 km: ok"
