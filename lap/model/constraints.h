@@ -92,6 +92,51 @@ constexpr int ConstraintStateCount(int j) {
   return n;
 }
 
+// Whether g_j bounds one state: affine in that state (the one ConstraintUsesState names) and
+// independent of the others. The Ipopt oracle makes these bounds of its unknowns at the nodes
+// instead of rows of its constraint Jacobian (lap/solver/ipopt_direct.cc); model_test checks
+// that each is affine.
+constexpr bool IsStateBound(int j) {
+  switch (j) {
+    case kBorderRight:
+    case kBorderLeft:
+    case kRollRateMax:
+    case kRollRateMin:
+    case kYawRateMax:
+    case kYawRateMin:
+    case kCharge:
+    case kBrakeTorque:
+      return true;
+    default:
+      return false;
+  }
+}
+
+// A state bound g_j <= 0 (IsStateBound(j)) as x[state] <= value (upper) or >= value (lower).
+struct StateBound {
+  int state;
+  bool upper;
+  double value;  // in the state's unit
+};
+
+// The constraints at a state alone (defined below).
+template <typename T>
+ConstraintVector<T> StateConstraints(const Vehicle& v, const StateVector<T>& x,
+                                     const RoadPoint& road);
+
+// The bound that g_j (IsStateBound(j)) sets at `road`, read off g_j itself: g_j = g0 + c x_i, so
+// g_j <= 0 is x_i <= -g0 / c for c > 0 and x_i >= -g0 / c for c < 0.
+inline StateBound StateBoundOf(const Vehicle& v, int j, const RoadPoint& road) {
+  int i = 0;
+  while (!ConstraintUsesState(j, i)) ++i;
+  StateVector<double> x{};
+  x[kV] = 10.0;  // a defined point of the tyre and power train, which g_j does not read
+  const double g0 = StateConstraints(v, x, road)[j];
+  x[i] = 1.0;
+  const double c = StateConstraints(v, x, road)[j] - g0;
+  return {i, c > 0.0, -g0 / c};
+}
+
 // The constraints at a point of the model already evaluated (m = EvaluateModel(v, x, u, road)).
 template <typename T>
 ConstraintVector<T> EvaluateConstraints(const Vehicle& v, const StateVector<T>& x,

@@ -160,6 +160,38 @@ TEST(ModelTest, ConstraintsDependOnTheDeclaredStatesOnly) {
   }
 }
 
+// The state bounds (IsStateBound) are affine in their one state, and StateBoundOf reads the
+// bound where g_j = 0, on the side where g_j < 0: what the Ipopt oracle relies on to make them
+// bounds of its unknowns. The other constraints are not affine in any state.
+TEST(ModelTest, StateBoundsAreAffineInTheirStateAndBoundOfReadsTheirLimit) {
+  const Vehicle v = Bx15();
+  const StateVector<double> x0 = SomeState(v, 40.0);
+  for (int j = 0; j < kNumConstraints; ++j) {
+    if (!IsStateBound(j)) {
+      EXPECT_GT(ConstraintStateCount(j), 1) << kConstraintNames[j];
+      continue;
+    }
+    EXPECT_EQ(ConstraintStateCount(j), 1) << kConstraintNames[j];
+    const StateBound b = StateBoundOf(v, j, Curvy());
+    EXPECT_TRUE(ConstraintUsesState(j, b.state)) << kConstraintNames[j];
+    auto g_at = [&](double xi) {
+      StateVector<double> x = x0;
+      x[b.state] = xi;
+      return StateConstraints(v, x, Curvy())[j];
+    };
+    const double scale = std::max(1.0, std::abs(b.value));
+    EXPECT_NEAR(g_at(b.value), 0.0, 1e-12) << kConstraintNames[j];
+    EXPECT_LT(g_at(b.value + (b.upper ? -0.1 : 0.1) * scale), 0.0) << kConstraintNames[j];
+    EXPECT_GT(g_at(b.value + (b.upper ? 0.1 : -0.1) * scale), 0.0) << kConstraintNames[j];
+    const double mid = g_at(b.value + 0.5 * scale);  // affine: the midpoint's value is the mean
+    EXPECT_NEAR(mid, 0.5 * (g_at(b.value) + g_at(b.value + scale)), 1e-12) << kConstraintNames[j];
+  }
+  EXPECT_NEAR(StateBoundOf(v, kBorderRight, Curvy()).value, 0.5 * Curvy().width - v.border_margin,
+              1e-12);
+  EXPECT_FALSE(StateBoundOf(v, kCharge, Curvy()).upper);
+  EXPECT_NEAR(StateBoundOf(v, kCharge, Curvy()).value, 0.0, 1e-12);
+}
+
 TEST(ModelTest, StraightLevelCoastingDeceleratesByDragAndRolling) {
   const Vehicle v = Bx15();
   const RoadPoint road{};  // straight, level

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "lap/model/cost.h"
+#include "lap/model/hyper_dual.h"
 #include "lap/model/scalar.h"
 
 namespace ttz::lap {
@@ -61,21 +62,21 @@ bool ValuesAndJacobian(F eval, const Z& z, Y* y, J* jac) {
   return jac->allFinite();
 }
 
-// The Hessian of w^T out(z) by nested Jets (both triangles filled).
+// The Hessian of w^T out(z) by second-order automatic differentiation (HyperDual; both
+// triangles filled).
 template <int M, typename F, typename Z, typename W, typename H>
 bool WeightedHessian(F eval, const Z& z, const W& w, H* hess) {
   constexpr int N = Z::RowsAtCompileTime;
-  using J1 = ceres::Jet<double, N>;
-  using J2 = ceres::Jet<J1, N>;
-  std::array<J2, N> zz;
-  for (int i = 0; i < N; ++i) zz[i] = J2(J1(z(i), i), i);
-  std::array<J2, M> out;
+  using D = HyperDual<N>;
+  std::array<D, N> zz;
+  for (int i = 0; i < N; ++i) zz[i] = D(z(i), i);
+  std::array<D, M> out;
   if (!eval(zz, &out)) return false;
-  J2 sum = Cst<J2>(0.0);
+  D sum;
   for (int o = 0; o < M; ++o)
-    if (w(o) != 0.0) sum = sum + out[o] * w(o);
+    if (w(o) != 0.0) sum += out[o] * w(o);
   for (int a = 0; a < N; ++a)
-    for (int b = 0; b < N; ++b) (*hess)(a, b) = sum.v[a].v[b];
+    for (int b = 0; b <= a; ++b) (*hess)(a, b) = (*hess)(b, a) = sum.h[D::Index(a, b)];
   return hess->allFinite();
 }
 

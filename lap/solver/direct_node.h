@@ -7,7 +7,7 @@
 //            (c_y (dOmega_z/dt)^2 + c_t (dtau_w/dt)^2) / sdot (the effort of the objective, cost.h),
 //            g_j(x, u)     (eq. 39a-g, the voltage limits and the brake bound, constraints.h) ),
 //
-// their Jacobian dy/dz by Jets, and the Hessian of any weighted sum w^T y by nested Jets (the
+// their Jacobian dy/dz by Jets, and the Hessian of any weighted sum w^T y by HyperDual (the
 // interval's share of the Hessian of the Lagrangian, before the chain factors of
 // x~_mid = (x~_k + x~_{k+1}) / 2).
 #pragma once
@@ -56,7 +56,7 @@ bool NodeWeightedHessian(const DirectNode& node, const NodePoint& z, const NodeO
 // The constraints at a mesh node, g(x~) of the node's scaled state alone (constraints.h,
 // StateConstraints; the road at the node): the transcription checks them at the nodes as well as
 // at the midpoints (ipopt_direct.h), with their Jacobian by Jets and the Hessian of a weighted sum
-// by nested Jets.
+// by HyperDual.
 using StatePoint = Eigen::Matrix<double, kNumStates, 1>;
 using NodeConstraintValues = Eigen::Matrix<double, kNumConstraints, 1>;
 using NodeConstraintJacobian = Eigen::Matrix<double, kNumConstraints, kNumStates, Eigen::RowMajor>;

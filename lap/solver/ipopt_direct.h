@@ -16,7 +16,11 @@
 //               g_j(x~_k) <= 0 at every node k >= 1 (IpoptOptions::node_constraints)
 //               x~_0 = x_guess[0] / S                                 (start state fixed)
 // The end state is free (paper). The inequalities are Ipopt constraints, not barrier penalties of
-// the Hamiltonian: the answer has eps = 0.
+// the Hamiltonian: the answer has eps = 0. With node constraints, the constraints that bound one
+// state (the borders, roll and yaw rates, charge and brake torque: IsStateBound) are bounds of
+// the nodes' unknowns, and their rows at the midpoints are left out where the nodes' bounds imply
+// them (everywhere on a road of constant width): the same feasible set with 12 inequality rows
+// per interval instead of 26 (docs/lap.md, "Bounds and HyperDual Hessians", has what it saves).
 #pragma once
 
 #include <string>

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "lap/model/hyper_dual.h"
+
 namespace ttz::lap {
 namespace {
 
@@ -88,28 +90,27 @@ void ValuesOnly(const Vehicle& v, const Scales& sc, const RoadPoint& road, const
   }
 }
 
-// Nested Jets over z = (x~, u~): F, F_z, H_z and H_zz, then the total derivatives through u*.
+// Second-order automatic differentiation over z = (x~, u~) (HyperDual): F, F_z, H_z and H_zz,
+// then the total derivatives through u*.
 void WithDerivatives(const Vehicle& v, const Scales& sc, const RoadPoint& road,
                      const BarrierWeight& w, const StateVector<double>& xs,
                      const StateVector<double>& lambda, NodeData* node) {
-  using J1 = ceres::Jet<double, kZ>;
-  using J2 = ceres::Jet<J1, kZ>;
-  StateVector<J2> x;
-  ControlVector<J2> u;
-  for (int i = 0; i < kNumStates; ++i) x[i] = J2(J1(xs[i], i), i);
-  for (int i = 0; i < kNumControls; ++i)
-    u[i] = J2(J1(node->u[i], kNumStates + i), kNumStates + i);
-  const HamiltonianValue<J2> hv = EvaluateHamiltonian(v, sc, road, w, x, u, lambda);
-  node->dt_ds = hv.dt_ds.a.a;
+  using D = HyperDual<kZ>;
+  StateVector<D> x;
+  ControlVector<D> u;
+  for (int i = 0; i < kNumStates; ++i) x[i] = D(xs[i], i);
+  for (int i = 0; i < kNumControls; ++i) u[i] = D(node->u[i], kNumStates + i);
+  const HamiltonianValue<D> hv = EvaluateHamiltonian(v, sc, road, w, x, u, lambda);
+  node->dt_ds = hv.dt_ds.a;
   Eigen::Matrix<double, kNumStates, kZ> Fz;
   Eigen::Matrix<double, kZ, kZ> Hzz;
   for (int i = 0; i < kNumStates; ++i) {
-    node->F(i) = hv.f[i].a.a;
-    node->G(i) = hv.H.a.v[i];
-    for (int j = 0; j < kZ; ++j) Fz(i, j) = hv.f[i].a.v[j];
+    node->F(i) = hv.f[i].a;
+    node->G(i) = hv.H.g[i];
+    Fz.row(i) = hv.f[i].g.transpose();
   }
   for (int i = 0; i < kZ; ++i)
-    for (int j = 0; j < kZ; ++j) Hzz(i, j) = hv.H.v[i].v[j];
+    for (int j = 0; j < kZ; ++j) Hzz(i, j) = hv.H.Hessian(i, j);
   const auto Fx = Fz.leftCols<kNumStates>();
   const auto Fu = Fz.rightCols<kNumControls>();
   const auto Hxx = Hzz.topLeftCorner<kNumStates, kNumStates>();

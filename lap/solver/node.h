@@ -1,7 +1,8 @@
 // One mesh node of the indirect transcription: the optimal controls u*(x, lambda) = argmin_u H by a
 // damped Newton on H_u = 0, and the node's contribution to the collocation residuals, F = x~' and
 // G = H_x~ at u*, with their total derivatives with respect to the node's states and costates
-// (through u* by the implicit-function theorem). Second derivatives of H come from nested Jets.
+// (through u* by the implicit-function theorem). Second derivatives of H come from HyperDual
+// (lap/model/hyper_dual.h; nested Jets over the two controls for the per-node Newton).
 #pragma once
 
 #include <Eigen/Dense>
