@@ -428,6 +428,47 @@ Continuation SolveFrom(const IndirectOptions& options, bool from_guess, Transcri
   return RunContinuation(options, tr, problem, summary);
 }
 
+// The first step window by window (IndirectOptions::window_m): fills lambda_guess and updates
+// x_guess and u_guess with the stitched windows' solution; false when a window failed.
+bool SolveFirstStepInWindows(const Vehicle& v, const RoadTrack& road,
+                             const std::vector<double>& mesh, const IndirectOptions& options,
+                             std::vector<StateVector<double>>* x_guess,
+                             std::vector<StateVector<double>>* lambda_guess,
+                             std::vector<ControlVector<double>>* u_guess, SolveSummary* summary) {
+  const int n = static_cast<int>(mesh.size());
+  lambda_guess->assign(n, StateVector<double>{});
+  IndirectOptions window = options;
+  window.window_m = 0.0;
+  window.eps_end = options.eps_start;  // the first step alone
+  window.retry_eps_start = 0.0;
+  for (int a = 0;;) {
+    int b = a;
+    while (b + 1 < n && mesh[b] < mesh[a] + options.window_m) ++b;
+    const bool last = b + 1 == n;
+    std::vector<double> sub_mesh(mesh.begin() + a, mesh.begin() + b + 1);
+    std::vector<StateVector<double>> sub_x(x_guess->begin() + a, x_guess->begin() + b + 1);
+    std::vector<ControlVector<double>> sub_u(u_guess->begin() + a, u_guess->begin() + b + 1);
+    SolveSummary ws;
+    const LapSolution sol = SolveIndirect(v, road, sub_mesh, sub_x, {}, sub_u, window, &ws);
+    summary->iterations += ws.iterations;
+    summary->steps.insert(summary->steps.end(), ws.steps.begin(), ws.steps.end());
+    std::ostringstream o;
+    o << "window " << mesh[a] << " - " << mesh[b] << " m: " << (ws.converged ? "converged" : "FAILED")
+      << " in " << ws.iterations << " iterations, " << ws.solve_seconds << " s";
+    Log(LogKind::kInfo, o.str());
+    if (!ws.converged) return false;
+    int keep = b;
+    while (!last && keep > a + 1 && mesh[keep] > mesh[b] - options.window_overlap_m) --keep;
+    for (int k = a; k <= keep; ++k) {
+      (*x_guess)[k] = sol.x[k - a];
+      (*lambda_guess)[k] = sol.lambda[k - a];
+      (*u_guess)[k] = sol.u[k - a];
+    }
+    if (last) return true;
+    a = keep;
+  }
+}
+
 }  // namespace
 
 LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
@@ -437,6 +478,23 @@ LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
                           const std::vector<ControlVector<double>>& u_guess,
                           const IndirectOptions& options, SolveSummary* summary) {
   const auto start = std::chrono::steady_clock::now();
+  if (options.window_m > 0.0 && lambda_guess.empty() && mesh.back() - mesh.front() > options.window_m) {
+    std::vector<StateVector<double>> x = x_guess, lambda;
+    std::vector<ControlVector<double>> u = u_guess;
+    SolveSummary windows;
+    const bool ok = SolveFirstStepInWindows(v, road, mesh, options, &x, &lambda, &u, &windows);
+    IndirectOptions whole = options;
+    whole.window_m = 0.0;
+    if (!ok) Log(LogKind::kInfo, "a window of the first step failed: the whole road from the guess");
+    LapSolution sol = ok ? SolveIndirect(v, road, mesh, x, lambda, u, whole, summary)
+                         : SolveIndirect(v, road, mesh, x_guess, {}, u_guess, whole, summary);
+    if (!ok && !summary->message.empty()) summary->message = "a window failed; " + summary->message;
+    summary->iterations += windows.iterations;
+    summary->steps.insert(summary->steps.begin(), windows.steps.begin(), windows.steps.end());
+    summary->solve_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return sol;
+  }
   Transcription tr =
       MakeTranscription(v, road, mesh, x_guess, lambda_guess, u_guess, options.num_threads,
                         options.node_constraints);

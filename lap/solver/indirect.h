@@ -50,6 +50,15 @@ struct IndirectOptions {
   // sigma_min(J) ~ 1e-6) stalled there; the bordered Newton passes it (docs/lap.md).
   bool arclength = true;
   double arclength_dlogeps = 0.36;  // first step's change of log eps (~ log of eps_factor)
+  // The first step from a guess without costates, on a road longer than `window_m` [m] (0: never
+  // windowed): solved window by window at eps_start, each window's start state fixed by the
+  // previous window's solution and its end free, keeping each window but its last
+  // `window_overlap_m` (where its free end pulls the costates to zero); the continuation then
+  // starts on the whole road from the stitched states and costates. From the QSS guess the first
+  // step's difficulty grows with the road (docs/lap.md "Status"); the prototype's 60 km first step
+  // was solved this way (../shared/notes/lap-solver-prototype.md).
+  double window_m = 0.0;
+  double window_overlap_m = 1000.0;
   int num_threads = 2;           // for the node evaluations and Ceres
   bool verbose = false;          // Ceres' per-iteration log
 };

@@ -63,5 +63,30 @@ TEST(IndirectTest, AFailedFirstStepIsRetriedFromTheGuessAtTheRetryWeight) {
   EXPECT_EQ(weights(options), (std::vector<double>{1.0}));
 }
 
+// The first step window by window (IndirectOptions::window_m): three windows of 150 m on the
+// 300 m straight, each converged at eps_start, then the continuation on the whole road from
+// their stitched states and costates ends on the lap of the unwindowed solve (the same discrete
+// problem).
+TEST(IndirectTest, AFirstStepSolvedInWindowsEndsOnTheSameLap) {
+  const Vehicle v = Bx15();
+  const MeshedRoad p(v, StraightRoad(300.0), 2.0);
+  SolveSummary whole, windowed;
+  const LapSolution a =
+      SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, IndirectOptions{}, &whole);
+  IndirectOptions options;
+  options.window_m = 150.0;
+  options.window_overlap_m = 50.0;
+  const LapSolution b = SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, options, &windowed);
+  ASSERT_TRUE(whole.converged) << whole.message;
+  ASSERT_TRUE(windowed.converged) << windowed.message;
+  // The windows 0-150, 100-250 and 200-300 m come first among the steps, each at eps_start.
+  ASSERT_GT(windowed.steps.size(), 3u);
+  int at_start = 0;
+  for (const ContinuationStep& step : windowed.steps) at_start += step.eps == options.eps_start;
+  EXPECT_GE(at_start, 4);  // three windows' first steps (midpoints, then nodes) and the whole road's
+  EXPECT_NEAR(b.lap_time, a.lap_time, 1e-6 * a.lap_time);
+  EXPECT_NEAR(b.lap_time_extrapolated, a.lap_time_extrapolated, 1e-6 * a.lap_time);
+}
+
 }  // namespace
 }  // namespace ttz::lap
