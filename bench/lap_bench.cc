@@ -3,12 +3,15 @@
 // from 0 to LENGTH_M, printing lap time, convergence, iterations, wall time, time per iteration,
 // CPU time (all threads) per iteration and node, peak memory and the re-simulation check's
 // lap-time and largest state difference (not a test). KEY=VALUE arguments after EPS_START override
-// bike.yaml values as `lap --set` does. CPU time per iteration and node is the
-// figure to compare across meshes: other processes sharing the machine do not count in it.
+// bike.yaml values as `lap --set` does; `indirect.window_m=M` and `indirect.window_overlap_m=M`
+// set the indirect solver's options of those names, `ipopt.NAME=VALUE` Ipopt's option NAME (e.g.
+// `ipopt.print_level=5`). CPU time per iteration and node is the figure to compare across
+// meshes: other processes sharing the machine do not count in it.
 #include <sys/resource.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -61,8 +64,26 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: lap_bench ROAD.h5 BIKE.yaml DS_M LENGTH_M [indirect|ipopt|both] [DT_MAX_S] [EPS_START] [KEY=VALUE ...]\n");
     return 2;
   }
-  ttz::SetLogLevel(1);
-  const Vehicle v = MakeVehicle(LoadBike(argv[2], std::vector<std::string>(argv + std::min(argc, 8), argv + argc)));
+  ttz::SetLogLevel(2);  // progress (window, continuation steps) on stderr
+  // KEY=VALUE arguments: `indirect.window_m=M` and `indirect.window_overlap_m=M` set the
+  // indirect solver's IndirectOptions of those names, `ipopt.NAME=VALUE` Ipopt's option NAME
+  // (IpoptOptions::extra), the others override bike.yaml.
+  std::vector<std::string> bike_overrides;
+  std::map<std::string, double> solver_settings;
+  IpoptOptions ipopt;
+  for (int i = 8; i < argc; ++i) {
+    const std::string a = argv[i];
+    const size_t dot = a.find('.'), eq = a.find('=');
+    const std::string prefix = eq == std::string::npos || dot > eq ? "" : a.substr(0, dot);
+    if (prefix == "indirect") solver_settings[a.substr(dot + 1, eq - dot - 1)] = std::stod(a.substr(eq + 1));
+    else if (prefix == "ipopt") ipopt.extra.emplace_back(a.substr(dot + 1, eq - dot - 1), a.substr(eq + 1));
+    else bike_overrides.push_back(a);
+  }
+  const auto solver_setting = [&](const std::string& key, double fallback) {
+    const auto it = solver_settings.find(key);
+    return it == solver_settings.end() ? fallback : it->second;
+  };
+  const Vehicle v = MakeVehicle(LoadBike(argv[2], bike_overrides));
   const RoadTrack road(ttz::ReadRoad(argv[1]));
   MeshOptions mesh_options;
   mesh_options.ds_m = std::stod(argv[3]);
@@ -79,11 +100,13 @@ int main(int argc, char** argv) {
     Run("indirect", v, road, mesh.size(), [&](SolveSummary* s) {
       IndirectOptions o;
       if (argc > 7) o.eps_start = std::stod(argv[7]);
+      o.window_m = solver_setting("window_m", o.window_m);
+      o.window_overlap_m = solver_setting("window_overlap_m", o.window_overlap_m);
       return SolveIndirect(v, road, mesh, qss.x, {}, qss.u, o, s);
     });
   if (which != "indirect")
     Run("ipopt", v, road, mesh.size(), [&](SolveSummary* s) {
-      return SolveDirectIpopt(v, road, mesh, qss.x, qss.u, IpoptOptions{}, s);
+      return SolveDirectIpopt(v, road, mesh, qss.x, qss.u, ipopt, s);
     });
   return 0;
 }

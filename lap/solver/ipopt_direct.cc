@@ -294,7 +294,7 @@ class LapNlp : public Ipopt::TNLP {
   }
 
   // Hessian of the Lagrangian: per interval, the (states + controls)-square Hessian of w^T y (IntervalWeights) in
-  // z_mid by nested Jets, mapped to the interval's 24 unknowns by the chain factors 1/2 (states)
+  // z_mid by HyperDual numbers (direct_node.cc), mapped to the interval's 24 unknowns by the chain factors 1/2 (states)
   // and 1 (controls). Neighbouring intervals share x~_k: Ipopt adds the duplicate entries.
   bool eval_h(Index, const Number* x, bool new_x, Number obj_factor, Index, const Number* lambda,
               bool, Index, Index* iRow, Index* jCol, Number* values) final {
@@ -496,6 +496,31 @@ void Require(bool accepted, const char* option) {
   if (!accepted) throw std::invalid_argument(std::string("Ipopt rejected the value of option ") + option);
 }
 
+// IpoptOptions::extra: the value read as the option's registered type.
+void SetByName(Ipopt::IpoptApplication& app, const std::string& name, const std::string& value) {
+  const Ipopt::SmartPtr<const Ipopt::RegisteredOption> option = app.RegOptions()->GetOption(name);
+  if (!Ipopt::IsValid(option)) throw std::invalid_argument("Ipopt has no option " + name);
+  Ipopt::OptionsList& options = *app.Options();
+  const auto number = [&](auto parse) {
+    size_t used = 0;
+    try {
+      const auto x = parse(value, &used);
+      if (used == value.size()) return x;
+    } catch (const std::exception&) {
+    }
+    throw std::invalid_argument("Ipopt option " + name + ": value '" + value + "' is not a number");
+  };
+  switch (option->Type()) {
+    case Ipopt::OT_Number:
+      return Require(options.SetNumericValue(name, number([](const std::string& t, size_t* n) { return std::stod(t, n); })),
+                     name.c_str());
+    case Ipopt::OT_Integer:
+      return Require(options.SetIntegerValue(name, number([](const std::string& t, size_t* n) { return std::stoi(t, n); })),
+                     name.c_str());
+    default: return Require(options.SetStringValue(name, value), name.c_str());
+  }
+}
+
 Ipopt::SmartPtr<Ipopt::IpoptApplication> MakeApplication(const IpoptOptions& o) {
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   Ipopt::OptionsList& options = *app->Options();
@@ -522,6 +547,7 @@ Ipopt::SmartPtr<Ipopt::IpoptApplication> MakeApplication(const IpoptOptions& o) 
   Require(options.SetStringValue("bound_mult_init_method", "mu-based"), "bound_mult_init_method");
   Require(options.SetNumericValue("tol", o.tolerance), "tol");
   Require(options.SetIntegerValue("max_iter", o.max_iterations), "max_iter");
+  for (const auto& [name, value] : o.extra) SetByName(*app, name, value);
   return app;
 }
 

@@ -1,5 +1,5 @@
 // The oracle of the lap solver (issue 3): the direct transcription of the same model, solved as a
-// nonlinear program by Ipopt (interior point, exact Hessians by nested automatic differentiation,
+// nonlinear program by Ipopt (interior point, exact Hessians by second-order automatic differentiation (HyperDual),
 // MUMPS). It shares nothing with the indirect solver (lap/solver/indirect.h) but the model, so
 // their agreement tests both.
 //
@@ -24,6 +24,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "lap/model/state.h"
@@ -73,6 +74,11 @@ struct IpoptOptions {
   // Threads for the midpoint evaluations (80 % of the time with one thread; Ipopt's own linear
   // algebra, MUMPS, is sequential).
   int num_threads = 2;
+  // Further Ipopt options by name and value, e.g. {"mumps_pivtol", "1e-8"}, set after (and so
+  // over) the ones above, as Ipopt's type for the name reads the value: for experiments with
+  // Ipopt's own settings (`lap_bench ... ipopt.NAME=VALUE`). An unknown name or a value Ipopt
+  // rejects throws std::invalid_argument.
+  std::vector<std::pair<std::string, std::string>> extra;
 };
 
 // Solves from the guess (x_guess[0] is the fixed start state; the controls start at the mean of

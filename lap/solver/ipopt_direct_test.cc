@@ -1,4 +1,4 @@
-// The Ipopt oracle: its midpoint derivatives (Jets for the Jacobian, nested Jets for the Hessian
+// The Ipopt oracle: its midpoint derivatives (Jets for the Jacobian, HyperDual numbers for the Hessian
 // of the Lagrangian) against central differences, and its lap on a straight level road against the
 // indirect solver's.
 #include "lap/solver/ipopt_direct.h"
@@ -178,6 +178,31 @@ TEST(IpoptDirectTest, AnOptionIpoptRejectsIsAnError) {
   no_barrier.mu_init = 0.0;  // Ipopt's range: mu_init > 0
   EXPECT_THROW(solve(no_barrier), std::invalid_argument);
   EXPECT_NO_THROW(solve(IpoptOptions{}));
+}
+
+// IpoptOptions::extra reaches Ipopt by name, typed as Ipopt registers the name, after (and so
+// over) the options of its own fields; what Ipopt would not take is an error.
+TEST(IpoptDirectTest, ExtraOptionsAreSetByNameAndOverrideTheFields) {
+  const Vehicle v = Bx15();
+  const auto& [road, mesh, qss] = MeshedRoad(v, StraightRoad(50.0), 5.0);
+  const auto solve = [&](std::vector<std::pair<std::string, std::string>> extra) {
+    IpoptOptions options;
+    options.extra = std::move(extra);
+    SolveSummary summary;
+    SolveDirectIpopt(v, road, mesh, qss.x, qss.u, options, &summary);
+    return summary;
+  };
+  EXPECT_THROW(solve({{"no_such_option", "1"}}), std::invalid_argument);
+  EXPECT_THROW(solve({{"mumps_pivtol", "small"}}), std::invalid_argument);   // a number
+  EXPECT_THROW(solve({{"mumps_pivtol", "2"}}), std::invalid_argument);       // range 0..1
+  EXPECT_THROW(solve({{"max_iter", "1.5"}}), std::invalid_argument);         // an integer
+  EXPECT_THROW(solve({{"mu_strategy", "sometimes"}}), std::invalid_argument);
+  const SolveSummary full = solve({{"mumps_pivtol", "1e-5"}, {"mu_strategy", "adaptive"}});
+  EXPECT_TRUE(full.converged) << full.message;
+  const SolveSummary one = solve({{"max_iter", "1"}});  // over IpoptOptions::max_iterations
+  EXPECT_FALSE(one.converged);
+  EXPECT_LE(one.iterations, 1);
+  EXPECT_LT(one.iterations, full.iterations);
 }
 
 // Both solvers start from the QSS guess, which is symmetric (n = alpha = phi = 0), and stay on

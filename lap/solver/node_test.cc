@@ -1,5 +1,5 @@
 // The second derivatives of the Hamiltonian that the indirect solver's Jacobian is built from
-// (nested Jets) against central differences of its first derivatives (plain Jets), and the
+// (HyperDual numbers) against central differences of its first derivatives (plain Jets), and the
 // control elimination: u* is a minimum of H and du*/dx matches differences of u*.
 #include "lap/solver/node.h"
 
