@@ -11,7 +11,7 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <map>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -56,39 +56,46 @@ void Run(const char* solver, const ttz::lap::Vehicle& v, const ttz::lap::RoadTra
               100.0 * r.max_state_difference_all, kStateNames[r.worst_state], s.message.c_str());
 }
 
-}  // namespace
+// TEXT as a number, all of it; else std::invalid_argument naming WHAT.
+double Number(const std::string& text, const std::string& what) {
+  size_t used = 0;
+  try {
+    const double x = std::stod(text, &used);
+    if (used == text.size()) return x;
+  } catch (const std::exception&) {
+  }
+  throw std::invalid_argument(what + ": '" + text + "' is not a number");
+}
 
-int main(int argc, char** argv) {
+// One KEY=VALUE argument: `indirect.window_m` and `indirect.window_overlap_m` set the indirect
+// solver's IndirectOptions of those names, `ipopt.NAME` Ipopt's option NAME
+// (IpoptOptions::extra, checked when Ipopt starts), any other key overrides bike.yaml.
+void ParseSetting(const std::string& a, std::vector<std::string>* bike, ttz::lap::IndirectOptions* indirect,
+                  ttz::lap::IpoptOptions* ipopt) {
+  const size_t eq = a.find('=');
+  const std::string key = a.substr(0, eq), value = eq == std::string::npos ? "" : a.substr(eq + 1);
+  if (key == "indirect.window_m") indirect->window_m = Number(value, key);
+  else if (key == "indirect.window_overlap_m") indirect->window_overlap_m = Number(value, key);
+  else if (key.rfind("indirect.", 0) == 0)
+    throw std::invalid_argument(key + ": not an option of lap_bench (indirect.window_m, indirect.window_overlap_m)");
+  else if (key.rfind("ipopt.", 0) == 0 && eq != std::string::npos) ipopt->extra.emplace_back(key.substr(6), value);
+  else bike->push_back(a);
+}
+
+int Bench(int argc, char** argv) {
   using namespace ttz::lap;
-  if (argc < 5) {
-    std::fprintf(stderr, "usage: lap_bench ROAD.h5 BIKE.yaml DS_M LENGTH_M [indirect|ipopt|both] [DT_MAX_S] [EPS_START] [KEY=VALUE ...]\n");
-    return 2;
-  }
   ttz::SetLogLevel(2);  // progress (window, continuation steps) on stderr
-  // KEY=VALUE arguments: `indirect.window_m=M` and `indirect.window_overlap_m=M` set the
-  // indirect solver's IndirectOptions of those names, `ipopt.NAME=VALUE` Ipopt's option NAME
-  // (IpoptOptions::extra), the others override bike.yaml.
   std::vector<std::string> bike_overrides;
-  std::map<std::string, double> solver_settings;
+  IndirectOptions indirect;
   IpoptOptions ipopt;
-  for (int i = 8; i < argc; ++i) {
-    const std::string a = argv[i];
-    const size_t dot = a.find('.'), eq = a.find('=');
-    const std::string prefix = eq == std::string::npos || dot > eq ? "" : a.substr(0, dot);
-    if (prefix == "indirect") solver_settings[a.substr(dot + 1, eq - dot - 1)] = std::stod(a.substr(eq + 1));
-    else if (prefix == "ipopt") ipopt.extra.emplace_back(a.substr(dot + 1, eq - dot - 1), a.substr(eq + 1));
-    else bike_overrides.push_back(a);
-  }
-  const auto solver_setting = [&](const std::string& key, double fallback) {
-    const auto it = solver_settings.find(key);
-    return it == solver_settings.end() ? fallback : it->second;
-  };
+  if (argc > 7) indirect.eps_start = Number(argv[7], "EPS_START");
+  for (int i = 8; i < argc; ++i) ParseSetting(argv[i], &bike_overrides, &indirect, &ipopt);
   const Vehicle v = MakeVehicle(LoadBike(argv[2], bike_overrides));
   const RoadTrack road(ttz::ReadRoad(argv[1]));
   MeshOptions mesh_options;
-  mesh_options.ds_m = std::stod(argv[3]);
-  if (argc > 6) mesh_options.dt_max_s = std::stod(argv[6]);
-  const double length = std::min(std::stod(argv[4]), road.Length());
+  mesh_options.ds_m = Number(argv[3], "DS_M");
+  if (argc > 6) mesh_options.dt_max_s = Number(argv[6], "DT_MAX_S");
+  const double length = std::min(Number(argv[4], "LENGTH_M"), road.Length());
   const std::vector<double> mesh = LapMesh(v, road, length, mesh_options);
   const std::string which = argc > 5 ? argv[5] : "both";
   const QssLap qss = ComputeQss(v, road, mesh);
@@ -98,15 +105,27 @@ int main(int argc, char** argv) {
               "resim_x%", "worst");
   if (which != "ipopt")
     Run("indirect", v, road, mesh.size(), [&](SolveSummary* s) {
-      IndirectOptions o;
-      if (argc > 7) o.eps_start = std::stod(argv[7]);
-      o.window_m = solver_setting("window_m", o.window_m);
-      o.window_overlap_m = solver_setting("window_overlap_m", o.window_overlap_m);
-      return SolveIndirect(v, road, mesh, qss.x, {}, qss.u, o, s);
+      return SolveIndirect(v, road, mesh, qss.x, {}, qss.u, indirect, s);
     });
   if (which != "indirect")
     Run("ipopt", v, road, mesh.size(), [&](SolveSummary* s) {
       return SolveDirectIpopt(v, road, mesh, qss.x, qss.u, ipopt, s);
     });
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 5) {
+    std::fprintf(stderr, "usage: lap_bench ROAD.h5 BIKE.yaml DS_M LENGTH_M [indirect|ipopt|both] [DT_MAX_S] [EPS_START] [KEY=VALUE ...]\n");
+    return 2;
+  }
+  try {
+    return Bench(argc, argv);
+  } catch (const std::exception& e) {  // a bad argument or input file: the rows printed so far stay
+    std::fflush(stdout);
+    std::fprintf(stderr, "lap_bench: %s\n", e.what());
+    return 2;
+  }
 }

@@ -56,7 +56,10 @@ struct IndirectOptions {
   // `window_overlap_m` (where its free end pulls the costates to zero); the continuation then
   // starts on the whole road from the stitched states and costates. From the QSS guess the first
   // step's difficulty grows with the road (docs/lap.md "Status"); the prototype's 60 km first step
-  // was solved this way (../shared/notes/lap-solver-prototype.md).
+  // was solved this way (../shared/notes/lap-solver-prototype.md). The windows' steps come first
+  // in SolveSummary::steps (each at eps_start, its lap time that of its window alone) and their
+  // iterations count in SolveSummary::iterations. 0 <= window_overlap_m < window_m, else
+  // SolveIndirect throws std::invalid_argument.
   double window_m = 0.0;
   double window_overlap_m = 1000.0;
   int num_threads = 2;           // for the node evaluations and Ceres

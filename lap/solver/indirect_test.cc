@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "lap/testing/problem.h"
 #include "lap/testing/synthetic_road.h"
@@ -63,10 +64,10 @@ TEST(IndirectTest, AFailedFirstStepIsRetriedFromTheGuessAtTheRetryWeight) {
   EXPECT_EQ(weights(options), (std::vector<double>{1.0}));
 }
 
-// The first step window by window (IndirectOptions::window_m): three windows of 150 m on the
-// 300 m straight, each converged at eps_start, then the continuation on the whole road from
-// their stitched states and costates ends on the lap of the unwindowed solve (the same discrete
-// problem).
+// The first step window by window (IndirectOptions::window_m): windows of 150 m with 50 m of
+// overlap on the 300 m straight (0-150, 100-250 and 200-300 m), each converged at eps_start, then
+// the continuation on the whole road from their stitched states and costates ends on the lap of
+// the unwindowed solve (the same discrete problem). An overlap as long as the window is an error.
 TEST(IndirectTest, AFirstStepSolvedInWindowsEndsOnTheSameLap) {
   const Vehicle v = Bx15();
   const MeshedRoad p(v, StraightRoad(300.0), 2.0);
@@ -83,9 +84,12 @@ TEST(IndirectTest, AFirstStepSolvedInWindowsEndsOnTheSameLap) {
   ASSERT_GT(windowed.steps.size(), 3u);
   int at_start = 0;
   for (const ContinuationStep& step : windowed.steps) at_start += step.eps == options.eps_start;
-  EXPECT_GE(at_start, 4);  // three windows' first steps (midpoints, then nodes) and the whole road's
+  EXPECT_EQ(at_start, 7);  // three windows' first steps (midpoints, then nodes) and the whole road's
   EXPECT_NEAR(b.lap_time, a.lap_time, 1e-6 * a.lap_time);
   EXPECT_NEAR(b.lap_time_extrapolated, a.lap_time_extrapolated, 1e-6 * a.lap_time);
+  options.window_overlap_m = options.window_m;
+  SolveSummary unused;
+  EXPECT_THROW(SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, options, &unused), std::invalid_argument);
 }
 
 }  // namespace

@@ -501,24 +501,24 @@ void SetByName(Ipopt::IpoptApplication& app, const std::string& name, const std:
   const Ipopt::SmartPtr<const Ipopt::RegisteredOption> option = app.RegOptions()->GetOption(name);
   if (!Ipopt::IsValid(option)) throw std::invalid_argument("Ipopt has no option " + name);
   Ipopt::OptionsList& options = *app.Options();
-  const auto number = [&](auto parse) {
+  const auto parsed = [&](auto parse, const char* expected) {
     size_t used = 0;
     try {
       const auto x = parse(value, &used);
       if (used == value.size()) return x;
     } catch (const std::exception&) {
     }
-    throw std::invalid_argument("Ipopt option " + name + ": value '" + value + "' is not a number");
+    throw std::invalid_argument("Ipopt option " + name + ": value '" + value + "' is not " + expected);
   };
+  const auto real = [](const std::string& t, size_t* n) { return std::stod(t, n); };
+  const auto integer = [](const std::string& t, size_t* n) { return std::stoi(t, n); };
+  bool accepted = false;
   switch (option->Type()) {
-    case Ipopt::OT_Number:
-      return Require(options.SetNumericValue(name, number([](const std::string& t, size_t* n) { return std::stod(t, n); })),
-                     name.c_str());
-    case Ipopt::OT_Integer:
-      return Require(options.SetIntegerValue(name, number([](const std::string& t, size_t* n) { return std::stoi(t, n); })),
-                     name.c_str());
-    default: return Require(options.SetStringValue(name, value), name.c_str());
+    case Ipopt::OT_Number: accepted = options.SetNumericValue(name, parsed(real, "a number")); break;
+    case Ipopt::OT_Integer: accepted = options.SetIntegerValue(name, parsed(integer, "an integer")); break;
+    default: accepted = options.SetStringValue(name, value);
   }
+  Require(accepted, (name + " (" + value + ")").c_str());
 }
 
 Ipopt::SmartPtr<Ipopt::IpoptApplication> MakeApplication(const IpoptOptions& o) {
