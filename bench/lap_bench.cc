@@ -11,11 +11,13 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "common/log.h"
+#include "common/parse_number.h"
 #include "common/road_artefact.h"
 #include "lap/bike.h"
 #include "lap/mesh.h"
@@ -58,12 +60,7 @@ void Run(const char* solver, const ttz::lap::Vehicle& v, const ttz::lap::RoadTra
 
 // TEXT as a number, all of it; else std::invalid_argument naming WHAT.
 double Number(const std::string& text, const std::string& what) {
-  size_t used = 0;
-  try {
-    const double x = std::stod(text, &used);
-    if (used == text.size()) return x;
-  } catch (const std::exception&) {
-  }
+  if (const std::optional<double> x = ttz::ParseDouble(text)) return *x;
   throw std::invalid_argument(what + ": '" + text + "' is not a number");
 }
 

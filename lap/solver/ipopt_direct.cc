@@ -13,6 +13,7 @@
 #include <string>
 #include <utility>
 
+#include "common/parse_number.h"
 #include "lap/solver/direct_node.h"
 #include "lap/solver/hamiltonian.h"
 #include "lap/solver/parallel.h"
@@ -501,21 +502,18 @@ void SetByName(Ipopt::IpoptApplication& app, const std::string& name, const std:
   const Ipopt::SmartPtr<const Ipopt::RegisteredOption> option = app.RegOptions()->GetOption(name);
   if (!Ipopt::IsValid(option)) throw std::invalid_argument("Ipopt has no option " + name);
   Ipopt::OptionsList& options = *app.Options();
-  const auto parsed = [&](auto parse, const char* expected) {
-    size_t used = 0;
-    try {
-      const auto x = parse(value, &used);
-      if (used == value.size()) return x;
-    } catch (const std::exception&) {
-    }
+  const auto parsed = [&](auto number, const char* expected) {
+    if (number) return *number;
     throw std::invalid_argument("Ipopt option " + name + ": value '" + value + "' is not " + expected);
   };
-  const auto real = [](const std::string& t, size_t* n) { return std::stod(t, n); };
-  const auto integer = [](const std::string& t, size_t* n) { return std::stoi(t, n); };
   bool accepted = false;
   switch (option->Type()) {
-    case Ipopt::OT_Number: accepted = options.SetNumericValue(name, parsed(real, "a number")); break;
-    case Ipopt::OT_Integer: accepted = options.SetIntegerValue(name, parsed(integer, "an integer")); break;
+    case Ipopt::OT_Number:
+      accepted = options.SetNumericValue(name, parsed(ParseDouble(value), "a number"));
+      break;
+    case Ipopt::OT_Integer:
+      accepted = options.SetIntegerValue(name, parsed(ParseInt(value), "an integer"));
+      break;
     default: accepted = options.SetStringValue(name, value);
   }
   Require(accepted, (name + " (" + value + ")").c_str());

@@ -1,0 +1,17 @@
+// Whole-string number parsing for command-line values (`lap_bench KEY=VALUE`, Ipopt options by
+// name): the text must be a number and nothing else.
+#pragma once
+
+#include <optional>
+#include <string>
+
+namespace ttz {
+
+// TEXT as a double, all of it (leading blanks allowed, as std::stod does); nullopt when TEXT is
+// empty, not a number, has characters after the number, or is out of range.
+std::optional<double> ParseDouble(const std::string& text);
+
+// TEXT as an int, all of it, in decimal; nullopt as ParseDouble, also for "1.5" or "1e3".
+std::optional<int> ParseInt(const std::string& text);
+
+}  // namespace ttz
