@@ -46,6 +46,11 @@ Definitions:
     first t. The lap starts rolling (initial.speed_m_per_s, 5 m/s for the BX-15), not from rest,
     and nothing is added for the missing 0-5 m/s: it is the time from the lap's start to 120 km/h
     ("not reached" if V never gets there).
+  At its limit (gear study): the share of the lap time where a constraint's `constraint/<kind>`
+    (g <= 0 scaled by its limit, docs/lap_h5.md) is above -1e-3, each node standing for half of
+    each interval beside it: the motor current (`motor_current`, eq. 39e) and the motor voltage
+    (either of `motor_voltage_max` and `motor_voltage_pack`, section 5). Largest motor voltage:
+    the maximum of `motor/voltage` [V]. Together they say which limit shapes each point's lap.
   Power-train efficiency: integral of max(wheel/power, 0) dt over integral of max(battery/power,
     0) dt along t (trapezoids): energy delivered to the wheel over energy drawn from the pack,
     regenerated and braking power left out.
@@ -75,7 +80,10 @@ MOTOR_KEY = "motor.count"
 PACK_KEYS = ("battery.cells_series", "battery.cells_parallel", "battery.cell_energy_j")
 REFERENCE_MOTORS = 2           # the BX-15 of the 2015 TT Zero (paper sec 2.3)
 REFERENCE_PACK_TOLERANCE = 0.005   # relative: a pack this close to the reference one is it
-LAP_CHANNELS = ("state/V", "battery/power", "wheel/power")
+LAP_CHANNELS = ("state/V", "battery/power", "wheel/power", "motor/voltage",
+                "constraint/motor_current", "constraint/motor_voltage_max",
+                "constraint/motor_voltage_pack")
+BINDING_MARGIN = 1e-3          # a scaled constraint g <= 0 is at its limit where g > -1e-3
 
 # The paper's figures (paper-tt-zero-lap-time-optimisation.md, sections 4 and 5).
 PAPER = {
@@ -135,6 +143,9 @@ class Point:
         self.pack_j = self.series * self.parallel * bike["battery.cell_energy_j"]
         self.accel_120 = math.nan
         self.efficiency = math.nan
+        self.current_limited = math.nan   # share of the lap time at the motor-current limit
+        self.voltage_limited = math.nan   # ... at a motor-voltage limit
+        self.max_motor_voltage = math.nan  # [V]
         timed = "iterations" in lap.h5.attrs and "solve_seconds" in lap.h5.attrs
         self.iterations = lap.attr("iterations", int) if timed else None
         self.solve_seconds = lap.attr("solve_seconds") if timed else None
@@ -195,6 +206,16 @@ def accel_time(t, v):
     return float(crossing - t[0])
 
 
+def binding_share(t, g):
+    """Share of the lap time where the scaled constraint g is within BINDING_MARGIN of its limit;
+    each node stands for half of each interval beside it [1]."""
+    weight = np.zeros_like(t)
+    half = 0.5 * np.diff(t)
+    weight[:-1] += half
+    weight[1:] += half
+    return float(weight[g > -BINDING_MARGIN].sum() / weight.sum())
+
+
 def powertrain_efficiency(t, wheel, battery):
     """Energy to the wheel over energy drawn from the pack, positive parts only [1]."""
     drawn = np.trapz(np.maximum(battery, 0.0), t)
@@ -235,6 +256,10 @@ def read_point(path, channels):
                     raise ttz_h5.InputError(path, f"dataset '{name}' has non-finite values")
             point.accel_120 = accel_time(t, data["state/V"])
             point.efficiency = powertrain_efficiency(t, data["wheel/power"], data["battery/power"])
+            point.current_limited = binding_share(t, data["constraint/motor_current"])
+            point.voltage_limited = binding_share(t, np.maximum(
+                data["constraint/motor_voltage_max"], data["constraint/motor_voltage_pack"]))
+            point.max_motor_voltage = float(np.max(data["motor/voltage"]))
         return point
     finally:
         lap.h5.close()
@@ -450,12 +475,16 @@ def point_rows(points, study):
                      "not reached" if math.isnan(p.accel_120) else f"{p.accel_120:.2f}",
                      f"{p.energy_used / 1e6:.2f}", f"{100 * p.energy_fraction:.1f}",
                      "n/a" if math.isnan(p.efficiency) else f"{100 * p.efficiency:.1f}",
+                     f"{100 * p.current_limited:.0f}", f"{100 * p.voltage_limited:.0f}",
+                     f"{p.max_motor_voltage:.1f}",
                      "yes" if p.converged else "**NO**", f"`{p.name}`"])
     header = ["gear", "motors", "pack", "pack MJ", "lap time", "top speed km/h", "0-120 km/h s",
-              "energy MJ", "usage %", "power-train eff. %", "converged", "file"]
-    if study != "gear":  # 0-120 and efficiency are read for the gear study only
-        header = header[:6] + header[7:9] + header[10:]
-        rows = [r[:6] + r[7:9] + r[10:] for r in rows]
+              "energy MJ", "usage %", "power-train eff. %", "current at limit %",
+              "voltage at limit %", "largest motor voltage V", "converged", "file"]
+    if study != "gear":  # 0-120, efficiency and the limits are read for the gear study only
+        keep = [k for k in range(len(header)) if k not in (6, 9, 10, 11, 12)]
+        header = [header[k] for k in keep]
+        rows = [[r[k] for k in keep] for r in rows]
     return table(header, rows)
 
 

@@ -35,7 +35,9 @@ def write_point(path, lap_time, energy_used, top_speed=60.0, converged=1, messag
                 accel=5.0, efficiency=0.7, schema="ttz.lap", without=(), timed=None, **bike):
     """A lap.h5 of one design point: t uniform to lap_time, V = 5 + accel t (capped at 70 m/s),
     battery power 50 kW then -5 kW, wheel power efficiency x 50 kW then -8 kW (so the positive
-    parts' ratio is `efficiency`). Attributes in `without` are left out; `timed` = (iterations,
+    parts' ratio is `efficiency`); the motor current at its limit over the first half of the
+    nodes' time, the motor voltage (rising 40 -> 80 V) at its 80 V limit from t = 0.9 lap_time
+    on, the pack's voltage limit never. Attributes in `without` are left out; `timed` = (iterations,
     solve_seconds) writes those attributes."""
     pack_j = bike.get("series", 24) * bike.get("parallel", 4) * bike.get("cell_j", CELL_J)
     t = np.linspace(0.0, lap_time, NODES)
@@ -43,7 +45,11 @@ def write_point(path, lap_time, energy_used, top_speed=60.0, converged=1, messag
     channels = {"s": np.linspace(0.0, 60e3, NODES), "t": t,
                 "state/V": np.minimum(5.0 + accel * t, 70.0),
                 "battery/power": np.where(half, 50e3, -5e3),
-                "wheel/power": np.where(half, efficiency * 50e3, -8e3)}
+                "wheel/power": np.where(half, efficiency * 50e3, -8e3),
+                "motor/voltage": np.minimum(40.0 + 40.0 * t / (0.9 * lap_time), 80.0),
+                "constraint/motor_current": np.where(half, 0.0, -0.5),
+                "constraint/motor_voltage_pack": np.full(NODES, -0.2)}
+    channels["constraint/motor_voltage_max"] = channels["motor/voltage"] / 80.0 - 1.0
     with h5py.File(path, "w") as h5:
         for name, values in channels.items():
             h5.create_dataset(name, data=values)
@@ -136,6 +142,9 @@ class StudyReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
         row_28 = next(line for line in report.splitlines() if "g2.8.h5" in line and "|" in line)
         self.assertIn("| 5.06 |", row_28)
         self.assertIn("| 60.0 |", row_28)
+        # current at its limit on nodes 0..99 of 201: (99 + 0.5) / 200 of the time = 50 %;
+        # voltage from t = 0.9 lap_time (node 180) on: 20.5 / 200 = 10 %; largest 80 V
+        self.assertIn("| 60.0 | 50 | 10 | 80.0 | yes |", row_28)
         self.assertRegex(report, r"NOT CONVERGED: `[^`]*g3\.5\.h5`: residual 3e-2")
         row_35 = next(line for line in report.splitlines() if "g3.5.h5" in line and "|" in line)
         self.assertIn("**NO**", row_35)
