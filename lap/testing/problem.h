@@ -14,9 +14,17 @@
 
 namespace ttz::lap::testing {
 
-// The reference bike, data/bx15.yaml, with `overrides` as `--set` gives them ("key.path=value").
+// The lap tests' bike: the reference bike, data/bx15.yaml, with the motor voltage limit it had
+// until session 20 (90 V, kTestVoltageMax) and then `overrides` as `--set` gives them
+// ("key.path=value"). The tests' saved reference solutions (lap times, iteration counts) were
+// measured with 90 V; at the reference's 80 V (docs/bike.md) their uncalibrated 600 A bike rides
+// the voltage limit on fast roads, and the indirect solver fails two of them (the 5 km mixed road,
+// the windowed first step: docs/lap.md "Status").
+inline constexpr const char* kTestVoltageMax = "motor.voltage_max_v=90";
 inline Vehicle Bx15(const std::vector<std::string>& overrides = {}) {
-  return MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml", overrides));
+  std::vector<std::string> all{kTestVoltageMax};
+  all.insert(all.end(), overrides.begin(), overrides.end());
+  return MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml", all));
 }
 
 // `road` on a uniform mesh of `ds_m` metres and the QSS lap of bike `v` on it. Change the bike
