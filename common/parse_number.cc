@@ -1,5 +1,6 @@
 #include "common/parse_number.h"
 
+#include <cmath>
 #include <exception>
 
 namespace ttz {
@@ -20,7 +21,10 @@ auto Whole(const std::string& text, Parse parse) -> std::optional<decltype(parse
 }  // namespace
 
 std::optional<double> ParseDouble(const std::string& text) {
-  return Whole(text, [](const std::string& t, size_t* used) { return std::stod(t, used); });
+  const std::optional<double> x =
+      Whole(text, [](const std::string& t, size_t* used) { return std::stod(t, used); });
+  if (x && !std::isfinite(*x)) return std::nullopt;
+  return x;
 }
 
 std::optional<int> ParseInt(const std::string& text) {

@@ -1,5 +1,6 @@
-// Whole-string number parsing for command-line values (`lap_bench KEY=VALUE`, Ipopt options by
-// name): the text must be a number and nothing else.
+// Whole-string number parsing for command-line values (`lap_bench` arguments, Ipopt options by
+// name): the text must be one finite number with nothing after it. (CSV cells have their own
+// checks with file and line: common/csv.h.)
 #pragma once
 
 #include <optional>
@@ -8,7 +9,7 @@
 namespace ttz {
 
 // TEXT as a double, all of it (leading blanks allowed, as std::stod does); nullopt when TEXT is
-// empty, not a number, has characters after the number, or is out of range.
+// empty, not a number, has characters after the number, is out of range, or is nan or inf.
 std::optional<double> ParseDouble(const std::string& text);
 
 // TEXT as an int, all of it, in decimal; nullopt as ParseDouble, also for "1.5" or "1e3".

@@ -123,7 +123,8 @@ STUDIES = {  # name: (option, figure/table, keys the study may vary)
 
 class Point:
     """One design point: its lap.h5's summary attributes, its bike, and (gear study) the 0-120
-    km/h time and the power-train efficiency."""
+    km/h time, the power-train efficiency, the shares of the lap time at the motor-current and
+    motor-voltage limits and the largest motor voltage."""
 
     def __init__(self, path, lap, bike):
         self.path = path
@@ -208,12 +209,13 @@ def accel_time(t, v):
 
 def binding_share(t, g):
     """Share of the lap time where the scaled constraint g is within BINDING_MARGIN of its limit;
-    each node stands for half of each interval beside it [1]."""
-    weight = np.zeros_like(t)
+    each node stands for half of each interval beside it [1]; NaN for a lap of no duration."""
+    weight = np.zeros_like(t, dtype=float)
     half = 0.5 * np.diff(t)
     weight[:-1] += half
     weight[1:] += half
-    return float(weight[g > -BINDING_MARGIN].sum() / weight.sum())
+    total = weight.sum()
+    return float(weight[g > -BINDING_MARGIN].sum() / total) if total > 0 else math.nan
 
 
 def powertrain_efficiency(t, wheel, battery):
@@ -244,7 +246,7 @@ def set_aside_attempts(path):
 
 
 def read_point(path, channels):
-    """The Point of one lap.h5; with `channels`, also its 0-120 time and efficiency."""
+    """The Point of one lap.h5; with `channels`, also its 0-120 time, efficiency and limits."""
     lap = ttz_h5.open_lap(path)
     try:
         point = Point(path, lap, parse_bike(path, lap.attr("bike_yaml", str)))
@@ -466,6 +468,11 @@ def not_converged_lines(points):
     return lines + [""]
 
 
+def percent_or_na(share):
+    """A share [1] as a whole percentage, or n/a."""
+    return "n/a" if math.isnan(share) else f"{100 * share:.0f}"
+
+
 def point_rows(points, study):
     """Rows of the per-point table, sorted by the study's coordinates."""
     rows = []
@@ -475,7 +482,7 @@ def point_rows(points, study):
                      "not reached" if math.isnan(p.accel_120) else f"{p.accel_120:.2f}",
                      f"{p.energy_used / 1e6:.2f}", f"{100 * p.energy_fraction:.1f}",
                      "n/a" if math.isnan(p.efficiency) else f"{100 * p.efficiency:.1f}",
-                     f"{100 * p.current_limited:.0f}", f"{100 * p.voltage_limited:.0f}",
+                     percent_or_na(p.current_limited), percent_or_na(p.voltage_limited),
                      f"{p.max_motor_voltage:.1f}",
                      "yes" if p.converged else "**NO**", f"`{p.name}`"])
     header = ["gear", "motors", "pack", "pack MJ", "lap time", "top speed km/h", "0-120 km/h s",

@@ -14,7 +14,7 @@
 #include "common/road_artefact.h"
 #include "lap/model/constraints.h"
 #include "lap/solver/ipopt_direct.h"
-#include "lap/testing/problem.h"
+#include "lap/testing/test_bike.h"
 
 namespace {
 
@@ -232,14 +232,14 @@ TEST_F(LapCli, TheTimeLimitedMeshResolvesTheLaunch) {
 // from its states and its intervals' controls exactly: the same bike's lap restarts in under half
 // the iterations to the same lap, and a neighbouring gear, whose own mesh differs at the launch,
 // needs fewer iterations than from the QSS guess (measured: 74 cold, 49 warm, 17 to restart). The
-// bike has the 90 V motor voltage limit these figures were measured with (lap/testing/problem.h):
-// with 80 V gear 3.4 rides the limit on this road, and warm and cold took 53 iterations each.
+// bike has the 90 V motor voltage limit these figures were measured with (test_bike.h): with
+// data/bx15.yaml's 80 V gear 3.4 rides the limit on this road, and warm and cold took 53 each.
 TEST_F(LapCli, AnIpoptLapWarmStartsIpoptOnItsOwnMesh) {
   ttz::RoadArtefact bend = StraightRoad(500.0);  // a 50 m radius left bend from 300 to 380 m
   for (size_t i = 300; i <= 380; ++i) bend.kappa[i] = 1.0 / 50.0;
   const std::string road = Road("bend.h5", bend);
   const std::string options = road + " " + kBike + " --ds 10 -q --solver ipopt --set " +
-                              ttz::lap::testing::kTestVoltageMax;
+                              ttz::lap::testing::kTestVoltageMaxSetting;
   const std::string gear = " --set drive.gear_ratio=3.4";
   // Exit 0 or 4: the bend's curvature steps from 0 to 1/50 m^-1, and z_dot does not re-simulate.
   auto solved = [&](const std::string& arguments, const std::string& output) {

@@ -11,18 +11,15 @@
 #include "lap/mesh.h"
 #include "lap/qss.h"
 #include "lap/road_track.h"
+#include "lap/testing/test_bike.h"
 
 namespace ttz::lap::testing {
 
-// The lap tests' bike: the reference bike, data/bx15.yaml, with the motor voltage limit it had
-// until session 20 (90 V, kTestVoltageMax) and then `overrides` as `--set` gives them
-// ("key.path=value"). The tests' saved reference solutions (lap times, iteration counts) were
-// measured with 90 V; at the reference's 80 V (docs/bike.md) their uncalibrated 600 A bike rides
-// the voltage limit on fast roads, and the indirect solver fails two of them (the 5 km mixed road,
-// the windowed first step: docs/lap.md "Status").
-inline constexpr const char* kTestVoltageMax = "motor.voltage_max_v=90";
+// The lap tests' bike: the reference bike, data/bx15.yaml, with the motor voltage limit of their
+// saved reference solutions (kTestVoltageMaxSetting, test_bike.h), then `overrides` as `--set`
+// gives them ("key.path=value").
 inline Vehicle Bx15(const std::vector<std::string>& overrides = {}) {
-  std::vector<std::string> all{kTestVoltageMax};
+  std::vector<std::string> all{kTestVoltageMaxSetting};
   all.insert(all.end(), overrides.begin(), overrides.end());
   return MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml", all));
 }

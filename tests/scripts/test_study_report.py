@@ -1,9 +1,11 @@
 #!/usr/bin/python3
 """study_report.py on tiny synthetic design studies (lap.h5 files with a bike_yaml attribute):
 known optima found, the paper compared, non-converged points reported, bad input refused."""
+import math
 import os
 import re
 import shutil
+import sys
 import unittest
 
 import h5py
@@ -307,6 +309,19 @@ class StudyReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
         self.refused("--partial", "--gear", *same_gear, "--", "s1.h5", "same design")
         self.refused("--partial", "--gear", *self.battery_study()[:2], "--", "b31.h5",
                      "battery.cell_energy_j")
+
+
+class BindingShareTest(unittest.TestCase):
+    """The share of the lap time at a limit weighs each node by the time it stands for."""
+
+    def test_each_node_stands_for_half_of_each_interval_beside_it(self):
+        sys.path.insert(0, fx.SCRIPTS)
+        import study_report
+        # t = 0, 1, 3 s: the nodes stand for 0.5, 1.5 and 1 s; at the limit at the first and the
+        # last: 1.5 of 3 s (counting nodes would say 2 of 3)
+        self.assertAlmostEqual(study_report.binding_share(np.array([0.0, 1.0, 3.0]),
+                                                          np.array([0.0, -1.0, -5e-4])), 0.5)
+        self.assertTrue(math.isnan(study_report.binding_share(np.array([2.0]), np.array([0.0]))))
 
 
 if __name__ == "__main__":
