@@ -7,11 +7,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
 #include "common/csv.h"
 #include "common/error.h"
+#include "common/parse_number.h"
 
 namespace ttz::lap {
 
@@ -304,11 +306,9 @@ double ReadReal(const YAML::Node& node, const std::string& where) {
 int ReadInteger(const YAML::Node& node, const std::string& where) {
   if (!node.IsScalar()) throw InputError(where, "expected an integer");
   const std::string& s = node.Scalar();
-  char* end = nullptr;
-  const long v = std::strtol(s.c_str(), &end, 10);
-  if (s.empty() || *end != '\0' || v > 1000000 || v < -1000000)
-    throw InputError(where, "expected an integer, got '" + s + "'");
-  return static_cast<int>(v);
+  const std::optional<int> v = ParseInt(s);
+  if (!v || *v > 1000000 || *v < -1000000) throw InputError(where, "expected an integer, got '" + s + "'");
+  return *v;
 }
 
 // The 1-based line of `key` in a section map (yaml-cpp marks an empty value at the next token).

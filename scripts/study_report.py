@@ -208,14 +208,12 @@ def accel_time(t, v):
 
 
 def binding_share(t, g):
-    """Share of the lap time where the scaled constraint g is within BINDING_MARGIN of its limit;
-    each node stands for half of each interval beside it [1]; NaN for a lap of no duration."""
-    weight = np.zeros_like(t, dtype=float)
-    half = 0.5 * np.diff(t)
-    weight[:-1] += half
-    weight[1:] += half
-    total = weight.sum()
-    return float(weight[g > -BINDING_MARGIN].sum() / total) if total > 0 else math.nan
+    """Share of the lap time where the scaled constraint g is within BINDING_MARGIN of its limit
+    (trapezoidal in time) [1]; NaN for a lap of no duration."""
+    duration = t[-1] - t[0] if t.size else 0.0
+    if duration <= 0:
+        return math.nan
+    return float(np.trapz((g > -BINDING_MARGIN).astype(float), t) / duration)
 
 
 def powertrain_efficiency(t, wheel, battery):
@@ -252,6 +250,8 @@ def read_point(path, channels):
         point = Point(path, lap, parse_bike(path, lap.attr("bike_yaml", str)))
         if channels:
             t = lap.data("t")
+            if t.size == 0:
+                raise ttz_h5.InputError(path, "dataset 't' is empty")
             data = {name: lap.data(name, t.size) for name in LAP_CHANNELS}
             for name, values in (("t", t), *data.items()):
                 if not np.all(np.isfinite(values)):
@@ -468,9 +468,14 @@ def not_converged_lines(points):
     return lines + [""]
 
 
-def percent_or_na(share):
-    """A share [1] as a whole percentage, or n/a."""
-    return "n/a" if math.isnan(share) else f"{100 * share:.0f}"
+def percent_or_na(share, digits):
+    """A share [1] as a percentage with `digits` decimals, or n/a when it is NaN."""
+    return "n/a" if math.isnan(share) else f"{100 * share:.{digits}f}"
+
+
+# The per-point table's columns that only the gear study reads (read_point's `channels`).
+GEAR_ONLY_COLUMNS = ("0-120 km/h s", "power-train eff. %", "current at limit %",
+                     "voltage at limit %", "largest motor voltage V")
 
 
 def point_rows(points, study):
@@ -481,15 +486,15 @@ def point_rows(points, study):
                      f"{lap_text(p.lap_time)} ({p.lap_time:.1f} s)", f"{KMH * p.top_speed:.1f}",
                      "not reached" if math.isnan(p.accel_120) else f"{p.accel_120:.2f}",
                      f"{p.energy_used / 1e6:.2f}", f"{100 * p.energy_fraction:.1f}",
-                     "n/a" if math.isnan(p.efficiency) else f"{100 * p.efficiency:.1f}",
-                     percent_or_na(p.current_limited), percent_or_na(p.voltage_limited),
+                     percent_or_na(p.efficiency, 1),
+                     percent_or_na(p.current_limited, 0), percent_or_na(p.voltage_limited, 0),
                      f"{p.max_motor_voltage:.1f}",
                      "yes" if p.converged else "**NO**", f"`{p.name}`"])
     header = ["gear", "motors", "pack", "pack MJ", "lap time", "top speed km/h", "0-120 km/h s",
               "energy MJ", "usage %", "power-train eff. %", "current at limit %",
               "voltage at limit %", "largest motor voltage V", "converged", "file"]
-    if study != "gear":  # 0-120, efficiency and the limits are read for the gear study only
-        keep = [k for k in range(len(header)) if k not in (6, 9, 10, 11, 12)]
+    if study != "gear":
+        keep = [k for k, name in enumerate(header) if name not in GEAR_ONLY_COLUMNS]
         header = [header[k] for k in keep]
         rows = [[r[k] for k in keep] for r in rows]
     return table(header, rows)

@@ -1,4 +1,4 @@
-// The problem most lap tests start from: data/bx15.yaml's bike, a road on a uniform mesh, and the
+// The problem most lap tests start from: data/bx15.yaml's bike at 90 V (Bx15()), a road on a uniform mesh, and the
 // quasi-steady lap on that mesh (the solvers' guess, lap/qss.h). Tests only: TTZ_SOURCE_DIR is a
 // compile definition of the test targets (CMakeLists.txt, ttz_add_test).
 #pragma once
