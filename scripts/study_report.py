@@ -210,7 +210,7 @@ def accel_time(t, v):
 def binding_share(t, g):
     """Share of the lap time where the scaled constraint g is within BINDING_MARGIN of its limit
     (trapezoidal in time) [1]; NaN for a lap of no duration."""
-    duration = t[-1] - t[0] if t.size else 0.0
+    duration = t[-1] - t[0]
     if duration <= 0:
         return math.nan
     return float(np.trapz((g > -BINDING_MARGIN).astype(float), t) / duration)
