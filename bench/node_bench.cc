@@ -1,7 +1,7 @@
 // Cost of one interval midpoint of the Ipopt transcription (lap/solver/direct_node.h): the values
 // y(z), the Jacobian dy/dz (Jets) and the Hessian of w^T y (second derivatives), in microseconds per
 // call. Ipopt evaluates each once per interval and iteration; the Hessian dominates its time
-// (docs/lap.md, "Speed").
+// (docs/lap.md, "Bounds and HyperDual Hessians").
 //
 //   node_bench BIKE.yaml [CALLS]
 #include <cstdio>

@@ -347,7 +347,7 @@ void ReadKeys(const YAML::Node& root, const Locator& loc, BikeParams* p) {
   }
 }
 
-// Relations between keys; the error names the second key of each pair.
+// Relations between keys; the error names the key docs/bike.md marks for each.
 void CheckRelations(const YAML::Node& root, const Locator& loc, const BikeParams& p) {
   auto fail = [&](const char* section, const char* key, const std::string& what) {
     const std::string path = std::string(section) + "." + key;

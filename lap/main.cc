@@ -204,7 +204,7 @@ int Run(const Arguments& a) {
                        : LapReportText(sol, summary, channels.figures, resim))
             << std::flush;
   if (!summary.converged) {
-    // The indirect solver does not converge yet on roads longer than a few hundred metres
+    // The indirect solver does not converge yet on the whole TT course nor on every 5 km road
     // (docs/lap.md "Status"); the Ipopt oracle does, so the user is told.
     const std::string hint =
         a.solver == "indirect" ? " (on a long road, --solver ipopt converges where this solver does not yet)" : "";

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <ostream>
 
 #include "road_fit/road_profile.h"
 #include "tests/support/synthetic_road.h"
@@ -50,6 +51,9 @@ struct Case {
   testing::RoadSpec (*spec)();
   double noise_sd_m;
 };
+
+// How ctest and gtest name a case: "climbing curve, noise 0.3 m", not the struct's bytes.
+void PrintTo(const Case& c, std::ostream* os) { *os << c.spec().name << ", noise " << c.noise_sd_m << " m"; }
 
 class SyntheticFit : public ::testing::TestWithParam<Case> {};
 

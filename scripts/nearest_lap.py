@@ -11,9 +11,10 @@ whose other values equal POINT_FOLDER's count: its neighbours along its K-th val
 in the grid: the same gear, another pack). Nothing is printed when no such sibling has finished
 (a cold start) or a name is not numeric.
 """
-import argparse
 import os
 import sys
+
+import ttz_h5
 
 
 def values(name):
@@ -33,7 +34,7 @@ def on_line(a, b, along):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = ttz_h5.argument_parser(__doc__)
     parser.add_argument("point")
     parser.add_argument("--along", type=int, help="only neighbours along this value (1-based)")
     args = parser.parse_args()

@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """nearest_lap.py on a study folder of empty lap.h5 files: the nearest finished sibling, the
-neighbours along one value only (--along), a cold start when none has finished, bad --along."""
+neighbours along one value only (--along), a cold start when none has finished, bad --along, a
+usage error in one line."""
 import os
 import subprocess
 import sys
@@ -50,6 +51,12 @@ class NearestLapTest(unittest.TestCase):
         code, out, err = nearest(os.path.join(self.grid, "3.4_42"), "--along", "3")
         self.assertEqual((code, out), (2, ""))
         self.assertIn("--along 3: 3.4_42 has 2 value(s)", err)
+
+    def test_a_usage_error_is_one_line(self):
+        code, out, err = nearest(os.path.join(self.grid, "3.4_42"), "--along", "two")
+        self.assertEqual((code, out), (2, ""))
+        self.assertEqual(len(err.strip().splitlines()), 1, err)
+        self.assertIn("--along", err)
 
 
 if __name__ == "__main__":
