@@ -161,6 +161,9 @@ LapSolverOptions SolverOptionsOf(const Arguments& a, const IpoptOptions& ipopt, 
   return {ipopt.max_iterations, ipopt.mu_globalization, ipopt.mu_strategy, ipopt.mu_init};
 }
 
+// The longest roads on which the indirect solver has converged are 5 km (docs/lap.md "Status").
+constexpr double kIndirectLongestSolvedRoadM = 5100.0;
+
 // The one place that dispatches on --solver.
 LapSolution Solve(const Arguments& a, const Vehicle& v, const RoadTrack& track, const std::vector<double>& mesh,
                   const QssLap& qss, const SolverGuess& guess, const IpoptOptions& ipopt,
@@ -170,6 +173,9 @@ LapSolution Solve(const Arguments& a, const Vehicle& v, const RoadTrack& track, 
     << qss.lap_time << " s; solving with " << a.solver;
   ttz::Log(ttz::LogKind::kInfo, o.str());
   if (a.solver == "ipopt") return SolveDirectIpopt(v, track, mesh, guess, ipopt, summary);
+  if (track.Length() > kIndirectLongestSolvedRoadM)  // told now, not after an hour's failed solve
+    ttz::Log(ttz::LogKind::kWarning, a.road + ": the indirect solver has not yet converged on a road longer than "
+                                         "5 km (docs/lap.md \"Status\"); --solver ipopt has");
   return SolveIndirect(v, track, mesh, guess.x, guess.lambda, guess.u, options, summary);
 }
 
