@@ -12,7 +12,6 @@ in the grid: the same gear, another pack). Nothing is printed when no such sibli
 (a cold start) or a name is not numeric.
 """
 import os
-import sys
 
 import ttz_h5
 
@@ -44,8 +43,7 @@ def main():
     if target is None or not os.path.isdir(study):
         return
     if args.along is not None and not 1 <= args.along <= len(target):
-        sys.stderr.write(f"nearest_lap.py: --along {args.along}: {name} has {len(target)} value(s)\n")
-        sys.exit(2)
+        parser.error(f"--along {args.along}: {name} has {len(target)} value(s)")
     siblings = {n: values(n) for n in os.listdir(study) if n != name}
     done = [(distance(v, target), v, os.path.join(study, n, "lap.h5"))
             for n, v in sorted(siblings.items())
