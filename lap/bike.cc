@@ -189,6 +189,8 @@ const std::vector<KeySpec>& Keys() {
                "c_y [s^4/rad^2], cost of the yaw acceleration: lap time + c_y int (dOmega_z/dt)^2 dt"),
       TTZ_REAL("limits", "torque_rate_weight_s3_per_n2_m2", limits.torque_rate_weight, kPositive,
                "c_t [s^3/(N m)^2], cost of the torque rate: lap time + c_t int (dtau_w/dt)^2 dt"),
+      TTZ_REAL("limits", "roll_rate_weight_s2_per_rad2", limits.roll_rate_weight, kNonNegative,
+               "c_r [s^2/rad^2], cost of the roll rate: lap time + c_r int omega_phi^2 dt"),
   };
   return keys;
 }

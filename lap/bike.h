@@ -106,8 +106,9 @@ struct LimitParams {
   double border_margin;   // keep the contact point this far inside each road border [m] (eq. 39a)
   double brake_torque_max;  // largest braking torque of the brakes at the wheel [N m]; bounds the
                             // control tau_w from below (the paper's min over u in U, eq. 38a)
-  double yaw_accel_weight;    // c_y [s^4/rad^2] and c_t [s^3/(N m)^2]: the rider's effort, the
-  double torque_rate_weight;  // cost int 1 + c_y (dOmega_z/dt)^2 + c_t (dtau_w/dt)^2 dt (cost.h)
+  double yaw_accel_weight;    // c_y [s^4/rad^2], c_t [s^3/(N m)^2] and c_r [s^2/rad^2]: the rider's
+  double torque_rate_weight;  // effort, the cost int 1 + c_y (dOmega_z/dt)^2 + c_t (dtau_w/dt)^2
+  double roll_rate_weight;    // + c_r omega_phi^2 dt (cost.h)
 };
 
 struct BikeParams {

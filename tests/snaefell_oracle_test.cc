@@ -38,7 +38,7 @@ std::string CentreLineUpTo(const std::string& csv, double last_m) {
   return kept;
 }
 
-ttz::RoadArtefact SnaefellPiece(double last_m) {
+ttz::RoadArtefact FitSnaefellPiece(double last_m) {
   const fs::path dir = fs::path(::testing::TempDir()) / "snaefell_oracle";
   fs::create_directories(dir);
   const std::string csv = (dir / "centreline.csv").string(), h5 = (dir / "road.h5").string();
@@ -51,15 +51,36 @@ ttz::RoadArtefact SnaefellPiece(double last_m) {
   return road;
 }
 
+// The first 5 km, fitted once for the tests below.
+const ttz::RoadArtefact& First5km() {
+  static const ttz::RoadArtefact road = FitSnaefellPiece(5000.0);
+  return road;
+}
+
 // Measured in session 11 (this test, with four other solves on the machine): indirect 114.19 s at
 // eps 1e-4 (+0.017 %), 114.171 s extrapolated, 668 iterations (the failed first step at eps 1
 // among them), 302 s; Ipopt 114.1713 s in 111 iterations; QSS 134.215 s.
 TEST(SnaefellOracleTest, First5kmAgreement) {
-  const ttz::RoadArtefact road = SnaefellPiece(5000.0);
+  const ttz::RoadArtefact& road = First5km();
   // The last OSM node kept (s_m 4999.96 m, haversine on a sphere) ends the ribbon at 5014.9 m.
   ASSERT_NEAR(road.length_m, 5014.9, 0.5);
   ttz::lap::testing::ExpectAgreement(
       {"Snaefell, first 5 km", road, 5e-4, 114.1713, 111, 668, 5.0});
+}
+
+// The calibrated bike (docs/pipelines.md: 190.77 A per motor), whose laps are current-limited,
+// with a price on rolling the bike (docs/lap.md, "A price on rolling the bike"). Without the price
+// its optimum weaves on the straights and the indirect solver's continuation stops at a turning
+// point (eps 1.2e-3 on the course's first 5 km); with c_r = 0.01 s^2/rad^2 the weave is gone and
+// the two solvers agree. Measured in session 25 (this test, at nice 10 with a whole-course solve on
+// the machine): indirect 165.806 s at eps 1e-4 (+0.015 %), 165.782 s extrapolated (+0.000 %), 701
+// iterations (the failed first step at eps 1 among them), 333 s; Ipopt 165.7812 s in 31
+// iterations; QSS 183.1 s.
+TEST(SnaefellOracleTest, CalibratedBikeWithAPriceOnRollingAgrees) {
+  ttz::lap::testing::ExpectAgreement({"Snaefell, first 5 km, calibrated, c_r 0.01",
+                                      First5km(), 5e-4, 165.7812, 31, 701, 5.0,
+                                      {"motor.current_max_a=190.77",
+                                       "limits.roll_rate_weight_s2_per_rad2=0.01"}});
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "lap/model/constraints.h"
+#include "lap/model/cost.h"
 #include "lap/model/dynamics.h"
 #include "lap/model/vehicle.h"
 #include "lap/testing/problem.h"
@@ -47,7 +48,7 @@ StateVector<double> SomeState(const Vehicle& v, double V) {
   return x;
 }
 
-// dx/ds and the constraints as a cost function of (x, u), for GradientChecker.
+// dx/ds, the constraints and the effort as a cost function of (x, u), for GradientChecker.
 struct ModelFunctor {
   const Vehicle* v;
   RoadPoint road;
@@ -61,16 +62,18 @@ struct ModelFunctor {
     const ConstraintVector<T> g = EvaluateConstraints(*v, x, u, road, m);
     for (int i = 0; i < kNumStates; ++i) out[i] = m.dx_ds[i];
     for (int j = 0; j < kNumConstraints; ++j) out[kNumStates + j] = g[j];
+    out[kNumStates + kNumConstraints] = EffortPerMetre(*v, x, u, m);
     return true;
   }
 };
 
 TEST(ModelTest, DerivativesMatchNumericalDifferentiation) {
-  // First derivatives of x' and of every constraint with respect to every state and control,
-  // automatic (Jets) against central differences.
-  const Vehicle v = Bx15();
+  // First derivatives of x', of every constraint and of the effort (with a price on the roll
+  // rate) with respect to every state and control, automatic (Jets) against central differences.
+  Vehicle v = Bx15();
+  v.roll_rate_weight = 0.03;
   const ModelFunctor f{&v, Curvy()};
-  constexpr int kOut = kNumStates + kNumConstraints, kIn = kNumStates + kNumControls;
+  constexpr int kOut = kNumStates + kNumConstraints + 1, kIn = kNumStates + kNumControls;
   std::array<double, kIn> p;
   const StateVector<double> x = SomeState(v, 30.0);
   std::copy(x.begin(), x.end(), p.begin());
@@ -211,6 +214,20 @@ TEST(ModelTest, StraightLevelCoastingDeceleratesByDragAndRolling) {
   EXPECT_NEAR(m.acc[kOmegaWdot], -m.tyre.tau_r / v.I_wy, 1e-9);
   EXPECT_NEAR(m.tyre.tau_r, v.mu_r * m.tyre.N * R_e, 1e-9);
   EXPECT_NEAR(m.dx_ds[kV], m.acc[kVdot] / 40.0, 1e-12);
+}
+
+TEST(ModelTest, EffortIsTheRidersWorkPerMetre) {
+  // cost.h: (c_y (dOmega_z/dt)^2 + c_t (dtau_w/dt)^2 + c_r omega_phi^2) / sdot, by hand.
+  Vehicle v = Bx15();
+  v.roll_rate_weight = 0.03;
+  const StateVector<double> x = SomeState(v, 30.0);
+  const ControlVector<double> u{0.4, 500.0};
+  const ModelPoint<double> m = EvaluateModel(v, x, u, Curvy());
+  const double per_second = v.yaw_accel_weight * 0.16 + v.torque_rate_weight * 250000.0 +
+                            0.03 * x[kOmegaPhi] * x[kOmegaPhi];
+  EXPECT_NEAR(EffortPerMetre(v, x, u, m), per_second / m.kin.sdot, 1e-15);
+  v.roll_rate_weight = 0.0;  // the reference bike: no price on rolling
+  EXPECT_NEAR(EffortPerMetre(v, x, u, m), (per_second - 0.03 * 0.01) / m.kin.sdot, 1e-15);
 }
 
 TEST(ModelTest, SteadyLeanBalancesTheRollEquation) {

@@ -37,6 +37,7 @@ Vehicle MakeVehicle(const BikeParams& p) {
   v.brake_torque_max = p.limits.brake_torque_max;
   v.yaw_accel_weight = p.limits.yaw_accel_weight;
   v.torque_rate_weight = p.limits.torque_rate_weight;
+  v.roll_rate_weight = p.limits.roll_rate_weight;
   v.V0 = p.initial.V;
   v.T0 = p.initial.T;
   v.e0 = InitialEnergy(p);

@@ -36,6 +36,7 @@ struct Vehicle {
   double brake_torque_max;            // [N m] at the wheel
   double yaw_accel_weight;            // c_y [s^4/rad^2] (cost.h)
   double torque_rate_weight;          // c_t [s^3/(N m)^2] (cost.h)
+  double roll_rate_weight;            // c_r [s^2/rad^2] (cost.h)
   // Initial state.
   double V0, T0, e0;  // [m/s], [degC], [J]
   // Smoothing widths of f+ / f- (smooth.h).

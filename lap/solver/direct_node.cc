@@ -26,7 +26,7 @@ bool Evaluate(const DirectNode& node, const std::array<T, kNodeVars>& z, Outputs
   if (!(Val(m.kin.sdot) > 0.0)) return false;
   for (int i = 0; i < kNumStates; ++i) (*y)[kOutDxDs + i] = m.dx_ds[i] / node.sc.state[i];
   (*y)[kOutTime] = 1.0 / m.kin.sdot;  // eq. 37: dt/ds
-  (*y)[kOutEffort] = EffortPerMetre(*node.v, u, m);
+  (*y)[kOutEffort] = EffortPerMetre(*node.v, x, u, m);
   for (int j = 0; j < kNumConstraints; ++j) (*y)[kOutG + j] = g[j];
   for (const T& yi : *y)
     if (!std::isfinite(Val(yi))) return false;

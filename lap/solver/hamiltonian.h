@@ -1,7 +1,8 @@
 // The Hamiltonian of the minimum-time problem in the arc-length domain (eq. 38) with the path
 // constraints as relaxed barrier penalties and the rider's effort, in scaled states x~ = x / S and controls u~ = u / S_u:
 //
-//   H(x~, lambda~, u~) = (1 + eps sum_j P_delta(g_j(x, u))) / sdot + (c_y (dOmega_z/dt)^2 + c_t (dtau_w/dt)^2) / sdot
+//   H(x~, lambda~, u~) = (1 + eps sum_j P_delta(g_j(x, u))) / sdot
+//                        + (c_y (dOmega_z/dt)^2 + c_t (dtau_w/dt)^2 + c_r omega_phi^2) / sdot
 //                        + sum_i lambda~_i x_i' / S_i
 //
 // (x' from lap/model/dynamics.h, g_j and P_delta from lap/model/constraints.h, the steering
@@ -51,7 +52,7 @@ HamiltonianValue<T> EvaluateHamiltonian(const Vehicle& v, const Scales& sc, cons
   for (int j = 0; j < kNumConstraints; ++j) penalty = penalty + RelaxedBarrier(g[j], w.delta);
   HamiltonianValue<T> out;
   out.dt_ds = 1.0 / m.kin.sdot;
-  out.H = (1.0 + w.eps * penalty) * out.dt_ds + EffortPerMetre(v, u, m);
+  out.H = (1.0 + w.eps * penalty) * out.dt_ds + EffortPerMetre(v, x, u, m);
   for (int i = 0; i < kNumStates; ++i) {
     out.f[i] = m.dx_ds[i] / sc.state[i];
     out.H = out.H + lambda[i] * out.f[i];

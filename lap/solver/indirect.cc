@@ -442,6 +442,10 @@ bool SolveFirstStepInWindows(const Vehicle& v, const RoadTrack& road,
   window.window_m = 0.0;
   window.eps_end = options.eps_start;  // the first step alone
   window.retry_eps_start = 0.0;
+  // A window whose step fails at eps_start is solved again from its guess under a ten times
+  // heavier barrier and followed down to eps_start (docs/lap.md "A price on rolling the bike").
+  IndirectOptions heavier = window;
+  heavier.eps_start = 10.0 * options.eps_start;
   for (int a = 0;;) {
     int b = a;
     while (b + 1 < n && mesh[b] < mesh[a] + options.window_m) ++b;
@@ -450,13 +454,18 @@ bool SolveFirstStepInWindows(const Vehicle& v, const RoadTrack& road,
     std::vector<StateVector<double>> sub_x(x_guess->begin() + a, x_guess->begin() + b + 1);
     std::vector<ControlVector<double>> sub_u(u_guess->begin() + a, u_guess->begin() + b + 1);
     SolveSummary ws;
-    const LapSolution sol = SolveIndirect(v, road, sub_mesh, sub_x, {}, sub_u, window, &ws);
-    summary->iterations += ws.iterations;
-    summary->steps.insert(summary->steps.end(), ws.steps.begin(), ws.steps.end());
-    std::ostringstream o;
-    o << "window " << mesh[a] << " - " << mesh[b] << " m: " << (ws.converged ? "converged" : "FAILED")
-      << " in " << ws.iterations << " iterations, " << ws.solve_seconds << " s";
-    Log(LogKind::kInfo, o.str());
+    LapSolution sol;
+    for (const IndirectOptions* o : {&window, &heavier}) {
+      sol = SolveIndirect(v, road, sub_mesh, sub_x, {}, sub_u, *o, &ws);
+      summary->iterations += ws.iterations;
+      summary->steps.insert(summary->steps.end(), ws.steps.begin(), ws.steps.end());
+      std::ostringstream line;
+      line << "window " << mesh[a] << " - " << mesh[b] << " m from eps " << o->eps_start << ": "
+           << (ws.converged ? "converged" : "FAILED") << " in " << ws.iterations << " iterations, "
+           << ws.solve_seconds << " s";
+      Log(LogKind::kInfo, line.str());
+      if (ws.converged) break;
+    }
     if (!ws.converged) return false;
     int keep = b;
     while (!last && keep > a + 1 && mesh[keep] > mesh[b] - options.window_overlap_m) --keep;

@@ -52,12 +52,13 @@ struct IndirectOptions {
   double arclength_dlogeps = 0.36;  // first step's change of log eps (~ log of eps_factor)
   // The first step from a guess without costates, on a road longer than `window_m` [m] (0: never
   // windowed): solved window by window at eps_start, each window's start state fixed by the
-  // previous window's solution and its end free, keeping each window but its last
-  // `window_overlap_m` (where its free end pulls the costates to zero); the continuation then
+  // previous window's solution and its end free (a window that fails at eps_start is solved
+  // again from its guess at 10 eps_start and followed down to eps_start), keeping each window but
+  // its last `window_overlap_m` (where its free end pulls the costates to zero); the continuation then
   // starts on the whole road from the stitched states and costates. From the QSS guess the first
   // step's difficulty grows with the road (docs/lap.md "Status"); the prototype's 60 km first step
   // was solved this way (../shared/notes/lap-solver-prototype.md). The windows' steps come first
-  // in SolveSummary::steps (each at eps_start, its lap time that of its window alone) and their
+  // in SolveSummary::steps (their lap times those of their windows alone) and their
   // iterations count in SolveSummary::iterations. 0 <= window_overlap_m < window_m, else
   // SolveIndirect throws std::invalid_argument.
   double window_m = 0.0;

@@ -40,7 +40,8 @@ TEST(IndirectTest, StraightLevelRoadFromAStandingStart) {
 }
 
 // A first step that fails at eps_start is solved again from the guess at retry_eps_start (the
-// 5 km roads need it, docs/lap.md); here one Ceres iteration per step makes every step fail.
+// 5 km roads need it, docs/lap.md), a window of the first step at 10 eps_start; here one Ceres
+// iteration per step makes every step fail.
 TEST(IndirectTest, AFailedFirstStepIsRetriedFromTheGuessAtTheRetryWeight) {
   const Vehicle v = Bx15();
   const MeshedRoad p(v, StraightRoad(100.0), 2.0);
@@ -62,6 +63,12 @@ TEST(IndirectTest, AFailedFirstStepIsRetriedFromTheGuessAtTheRetryWeight) {
   EXPECT_EQ(weights(options), (std::vector<double>{1.0, 0.1}));
   options.retry_eps_start = 0.0;
   EXPECT_EQ(weights(options), (std::vector<double>{1.0}));
+  // In windows (IndirectOptions::window_m) a window that fails at eps_start is tried again at ten
+  // times the weight; when that fails too, the whole road starts from the guess.
+  options.eps_start = 0.1;
+  options.window_m = 50.0;
+  options.window_overlap_m = 10.0;
+  EXPECT_EQ(weights(options), (std::vector<double>{0.1, 1.0, 0.1}));
 }
 
 // The first step window by window (IndirectOptions::window_m): windows of 150 m with 50 m of

@@ -12,8 +12,15 @@
 namespace ttz::lap {
 namespace {
 
-struct Fixture {
+// The reference bike with a price on the roll rate, so every term of H is exercised.
+Vehicle PricedRoll() {
   Vehicle v = testing::Bx15();
+  v.roll_rate_weight = 0.03;
+  return v;
+}
+
+struct Fixture {
+  Vehicle v = PricedRoll();
   Scales sc = DefaultScales(v);
   RoadPoint road;
   BarrierWeight w{0.1, 1e-3};

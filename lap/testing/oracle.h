@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "common/road_artefact.h"
 #include "lap/solver/indirect.h"
@@ -27,12 +29,13 @@ struct OracleCase {
   double reference_lap_s;
   int ipopt_iterations, indirect_iterations;
   double ds_m = 2.0;  // uniform mesh [m]
+  std::vector<std::string> bike_overrides = {};  // section.key=value on Bx15()
 };
 
 // Solves `road` on its mesh with both solvers and compares their lap times; returns the indirect
 // solver's answer.
 inline LapSolution ExpectAgreement(const OracleCase& c) {
-  const Vehicle v = Bx15();
+  const Vehicle v = Bx15(c.bike_overrides);
   const auto& [road, mesh, qss] = MeshedRoad(v, c.road, c.ds_m);
   SolveSummary indirect_summary, oracle_summary;
   const LapSolution sol =
