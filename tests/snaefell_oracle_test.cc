@@ -12,6 +12,8 @@
 #include <sstream>
 #include <string>
 
+#include <unistd.h>
+
 #include "common/road_artefact.h"
 #include "lap/testing/oracle.h"
 
@@ -39,7 +41,8 @@ std::string CentreLineUpTo(const std::string& csv, double last_m) {
 }
 
 ttz::RoadArtefact FitSnaefellPiece(double last_m) {
-  const fs::path dir = fs::path(::testing::TempDir()) / "snaefell_oracle";
+  // ctest runs each test in its own process, two at a time: one folder per process.
+  const fs::path dir = fs::path(::testing::TempDir()) / ("snaefell_oracle_" + std::to_string(getpid()));
   fs::create_directories(dir);
   const std::string csv = (dir / "centreline.csv").string(), h5 = (dir / "road.h5").string();
   std::ofstream(csv) << CentreLineUpTo(kSnaefell + "centreline-osm.csv", last_m);
