@@ -26,6 +26,8 @@ struct LapSolverOptions {
   std::string mu_globalization;  // Ipopt's adaptive_mu_globalization; "" for the indirect solver
   std::string mu_strategy;       // Ipopt's mu_strategy; "" for the indirect solver
   double mu_init = 0.0;          // Ipopt's mu_init [1]; 0 for the indirect solver
+  double window_m = 0.0;          // the indirect solver's windows (IndirectOptions) [m]; 0 for Ipopt
+  double window_overlap_m = 0.0;  // their overlap [m]; 0 for Ipopt
 };
 
 // What lap.h5 records about the run besides the solution.

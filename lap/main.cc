@@ -37,6 +37,8 @@ struct Arguments {
   std::string mu_globalization = IpoptOptions{}.mu_globalization;
   std::string mu_strategy = IpoptOptions{}.mu_strategy;
   double mu_init = IpoptOptions{}.mu_init;
+  double window_m = IndirectOptions{}.window_m;
+  double window_overlap_m = IndirectOptions{}.window_overlap_m;
   bool json = false, quiet = false, verbose = false;
 };
 
@@ -84,6 +86,15 @@ void DefineOptions(CLI::App& app, Arguments& a) {
       ->capture_default_str();
   app.add_option("--mu-init", a.mu_init, "Ipopt's mu_init (ipopt): the first barrier weight")
       ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--window", a.window_m,
+                 "indirect: solve the first continuation step window by window, each this long [m] (0: the whole "
+                 "road at once; docs/lap.md \"Status\" says on which roads windows help)")
+      ->check(kNonNegative)
+      ->capture_default_str();
+  app.add_option("--window-overlap", a.window_overlap_m,
+                 "indirect: the part of each window's end [m] that the next window solves again (less than --window)")
+      ->check(kNonNegative)
       ->capture_default_str();
   app.add_flag("--json", a.json, "print the summary as one JSON object");
   auto* quiet = app.add_flag("-q,--quiet", a.quiet, "print warnings and errors only");
@@ -157,8 +168,8 @@ IpoptOptions IpoptOptionsOf(const Arguments& a) {
 
 // What lap.h5 records of the options the solver ran with (docs/lap_h5.md).
 LapSolverOptions SolverOptionsOf(const Arguments& a, const IpoptOptions& ipopt, const IndirectOptions& indirect) {
-  if (a.solver != "ipopt") return {indirect.max_iterations, "", "", 0.0};
-  return {ipopt.max_iterations, ipopt.mu_globalization, ipopt.mu_strategy, ipopt.mu_init};
+  if (a.solver != "ipopt") return {indirect.max_iterations, "", "", 0.0, indirect.window_m, indirect.window_overlap_m};
+  return {ipopt.max_iterations, ipopt.mu_globalization, ipopt.mu_strategy, ipopt.mu_init, 0.0, 0.0};
 }
 
 // The longest roads on which the indirect solver has converged are 5 km (docs/lap.md "Status").
@@ -179,8 +190,21 @@ LapSolution Solve(const Arguments& a, const Vehicle& v, const RoadTrack& track, 
   return SolveIndirect(v, track, mesh, guess.x, guess.lambda, guess.u, options, summary);
 }
 
+// The windows of the indirect solver's first step (IndirectOptions::window_m) from the command line.
+void SetWindows(const Arguments& a, IndirectOptions* options) {
+  if (a.window_m > 0.0 && a.window_overlap_m >= a.window_m) {
+    std::ostringstream o;
+    o << a.window_overlap_m << " m, expected less than --window (" << a.window_m << " m)";
+    throw ttz::InputError("--window-overlap", o.str());
+  }
+  options->window_m = a.window_m;
+  options->window_overlap_m = a.window_overlap_m;
+}
+
 int Run(const Arguments& a) {
   CheckOutputFolder(a.output);
+  IndirectOptions options;
+  SetWindows(a, &options);
   const ttz::RoadArtefact road = ttz::ReadRoad(a.road);
   const BikeParams bike = LoadBike(a.bike, a.overrides);
   CheckRoadFitsBike(road, a.road, bike);
@@ -193,7 +217,6 @@ int Run(const Arguments& a) {
   const std::vector<double> mesh = mesh_from_init ? init->s : LapMesh(v, track, track.Length(), a.mesh);
   if (mesh_from_init) ttz::Log(ttz::LogKind::kInfo, "solving on the mesh of " + a.init);
   const QssLap qss = ComputeQss(v, track, mesh);
-  IndirectOptions options;
   if (a.max_iterations > 0) options.max_iterations = a.max_iterations;
   options.verbose = a.verbose && !a.json;  // Ceres prints its iterations on stdout
   const SolverGuess guess =

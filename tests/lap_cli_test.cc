@@ -459,6 +459,22 @@ TEST_F(LapCli, LapH5RecordsTheIterationLimitInEffect) {
   EXPECT_EQ(indirect.ReadStringAttribute("mu_globalization"), "");
 }
 
+// --window solves the first step window by window (IndirectOptions::window_m); lap.h5 says so.
+TEST_F(LapCli, TheIndirectSolverSolvesInWindowsWhenAsked) {
+  const std::string road = Road("straight400.h5", StraightRoad(400.0));
+  ASSERT_EQ(Lap(road + " " + kBike + " --ds 4 -q", "whole.h5").exit_code, 0);
+  const CliRun run = Lap(road + " " + kBike + " --ds 4 -q --window 200 --window-overlap 50", "windows.h5");
+  ASSERT_EQ(run.exit_code, 0) << run.stderr_text << run.stdout_text;
+  const ttz::ArtefactReader whole(Path("whole.h5"), "ttz.lap", 3), windows(Path("windows.h5"), "ttz.lap", 3);
+  EXPECT_EQ(whole.ReadDoubleAttribute("window_m"), 0.0);
+  EXPECT_EQ(windows.ReadDoubleAttribute("window_m"), 200.0);
+  EXPECT_EQ(windows.ReadDoubleAttribute("window_overlap_m"), 50.0);
+  // more steps than the whole road's continuation: the windows' come first (SolveSummary::steps)
+  EXPECT_GT(windows.ReadVector("continuation/eps", "1").size(), whole.ReadVector("continuation/eps", "1").size());
+  EXPECT_NEAR(windows.ReadDoubleAttribute("lap_time"), whole.ReadDoubleAttribute("lap_time"),
+              1e-6 * whole.ReadDoubleAttribute("lap_time"));
+}
+
 TEST_F(LapCli, BadOptions) {
   ExpectBadInput(Lap("road.h5 bike.yaml --ds -1"), "--ds");
   ExpectBadInput(Lap("road.h5 bike.yaml --solver newton"), "--solver");
@@ -466,6 +482,9 @@ TEST_F(LapCli, BadOptions) {
   ExpectBadInput(Lap("road.h5 bike.yaml --mu-strategy sometimes"), "--mu-strategy");
   ExpectBadInput(Lap("road.h5 bike.yaml --mu-init 0"), "--mu-init");
   ExpectBadInput(Lap("road.h5 bike.yaml --dt-max -0.5"), "--dt-max: value -0.5 is not a non-negative number");
+  ExpectBadInput(Lap("road.h5 bike.yaml --window -1"), "--window: value -1 is not a non-negative number");
+  ExpectBadInput(Lap("road.h5 bike.yaml --window 500 --window-overlap 500"),
+                 "--window-overlap: 500 m, expected less than --window (500 m)");
 }
 
 }  // namespace
