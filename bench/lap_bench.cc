@@ -3,8 +3,8 @@
 // from 0 to LENGTH_M, printing lap time, convergence, iterations, wall time, time per iteration,
 // CPU time (all threads) per iteration and node, peak memory and the re-simulation check's
 // lap-time and largest state difference (not a test). KEY=VALUE arguments after EPS_START override
-// bike.yaml values as `lap --set` does; `indirect.window_m=M` and `indirect.window_overlap_m=M`
-// set the indirect solver's options of those names, `ipopt.NAME=VALUE` Ipopt's option NAME (e.g.
+// bike.yaml values as `lap --set` does; `indirect.window_m=M`, `indirect.window_overlap_m=M` and
+// `indirect.max_iterations=N` set the indirect solver's options of those names, `ipopt.NAME=VALUE` Ipopt's option NAME (e.g.
 // `ipopt.print_level=5`). CPU time per iteration and node is the figure to compare across
 // meshes: other processes sharing the machine do not count in it.
 #include <sys/resource.h>
@@ -64,7 +64,8 @@ double Number(const std::string& text, const std::string& what) {
   throw std::invalid_argument(what + ": '" + text + "' is not a number");
 }
 
-// One KEY=VALUE argument: `indirect.window_m` and `indirect.window_overlap_m` set the indirect
+// One KEY=VALUE argument: `indirect.window_m`, `indirect.window_overlap_m` and
+// `indirect.max_iterations` set the indirect
 // solver's IndirectOptions of those names, `ipopt.NAME` Ipopt's option NAME
 // (IpoptOptions::extra, checked when Ipopt starts), any other key overrides bike.yaml.
 void ParseSetting(const std::string& a, std::vector<std::string>* bike, ttz::lap::IndirectOptions* indirect,
@@ -73,8 +74,10 @@ void ParseSetting(const std::string& a, std::vector<std::string>* bike, ttz::lap
   const std::string key = a.substr(0, eq), value = eq == std::string::npos ? "" : a.substr(eq + 1);
   if (key == "indirect.window_m") indirect->window_m = Number(value, key);
   else if (key == "indirect.window_overlap_m") indirect->window_overlap_m = Number(value, key);
+  else if (key == "indirect.max_iterations") indirect->max_iterations = static_cast<int>(Number(value, key));
   else if (key.rfind("indirect.", 0) == 0)
-    throw std::invalid_argument(key + ": not an option of lap_bench (indirect.window_m, indirect.window_overlap_m)");
+    throw std::invalid_argument(key + ": not an option of lap_bench (indirect.window_m, indirect.window_overlap_m, "
+                                      "indirect.max_iterations)");
   else if (key.rfind("ipopt.", 0) == 0 && eq != std::string::npos) ipopt->extra.emplace_back(key.substr(6), value);
   else bike->push_back(a);
 }
