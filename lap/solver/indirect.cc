@@ -281,7 +281,8 @@ Continuation RunContinuation(const IndirectOptions& options, Transcription* tr,
     const auto t0 = std::chrono::steady_clock::now();
     ceres::Solve(so, problem, &cs);
     double max_all, max_state;
-    ResidualLevels(tr, &max_all, &max_state);
+    ResidualPeak peak;
+    ResidualLevels(tr, &max_all, &max_state, &peak);
     ContinuationStep step;
     step.eps = eps;
     step.iterations = static_cast<int>(cs.iterations.size());
@@ -294,7 +295,7 @@ Continuation RunContinuation(const IndirectOptions& options, Transcription* tr,
     o << "eps " << eps << ": " << (step.converged ? "converged" : "FAILED") << " in "
       << step.iterations << " iterations, " << step.seconds << " s, lap " << step.lap_time
       << " s, max residual " << max_all;
-    if (!step.converged) o << " (" << cs.message << ")";
+    if (!step.converged) o << " at " << DescribePeak(*tr, peak) << " (" << cs.message << ")";
     Log(LogKind::kInfo, o.str());
     if (step.converged) {
       c.good.push_back(step);

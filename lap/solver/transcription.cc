@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "lap/solver/parallel.h"
 
@@ -130,20 +131,33 @@ void BuildProblem(Transcription* tr, ceres::Problem* problem) {
   problem->SetManifold(tr->W(n - 1), new ceres::SubsetManifold(kW, last_costates));
 }
 
-void ResidualLevels(Transcription* tr, double* max_all, double* max_state) {
+void ResidualLevels(Transcription* tr, double* max_all, double* max_state, ResidualPeak* peak) {
   tr->EvaluateMids(false);
   *max_all = *max_state = tr->all_valid ? 0.0 : HUGE_VAL;
-  if (!tr->all_valid) return;
-  for (int k = 0; k + 1 < tr->NumNodes(); ++k) {
-    IntervalResidual res(tr, k);
-    double r[kW];
-    const double* p[2] = {tr->W(k), tr->W(k + 1)};
-    res.Evaluate(p, r, nullptr);
-    for (int i = 0; i < kW; ++i) {
-      *max_all = std::max(*max_all, std::abs(r[i]));
-      if (i < kNumStates) *max_state = std::max(*max_state, std::abs(r[i]));
+  ResidualPeak where;
+  if (tr->all_valid)
+    for (int k = 0; k + 1 < tr->NumNodes(); ++k) {
+      IntervalResidual res(tr, k);
+      double r[kW];
+      const double* p[2] = {tr->W(k), tr->W(k + 1)};
+      res.Evaluate(p, r, nullptr);
+      for (int i = 0; i < kW; ++i) {
+        if (std::abs(r[i]) > *max_all) where = {k, i};
+        *max_all = std::max(*max_all, std::abs(r[i]));
+        if (i < kNumStates) *max_state = std::max(*max_state, std::abs(r[i]));
+      }
     }
-  }
+  if (peak) *peak = where;
+}
+
+std::string DescribePeak(const Transcription& tr, const ResidualPeak& peak) {
+  if (peak.interval < 0) return "no valid evaluation";
+  const bool state = peak.component < kNumStates;
+  std::ostringstream o;
+  o << (state ? "the defect of " : "the costate equation of ")
+    << kStateNames[state ? peak.component : peak.component - kNumStates] << " on " << tr.s[peak.interval] << "-"
+    << tr.s[peak.interval + 1] << " m";
+  return o.str();
 }
 
 }  // namespace ttz::lap

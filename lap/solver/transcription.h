@@ -23,6 +23,7 @@
 
 #include <ceres/ceres.h>
 
+#include <string>
 #include <vector>
 
 #include "lap/road_track.h"
@@ -116,7 +117,18 @@ class MidpointCallback : public ceres::EvaluationCallback {
 // One residual block per interval; x(0) and lambda(s_f) = 0 held by SubsetManifolds.
 void BuildProblem(Transcription* tr, ceres::Problem* problem);
 
-// Largest |residual| of the system at the current unknowns: of all, and of the state defects.
-void ResidualLevels(Transcription* tr, double* max_all, double* max_state);
+// Where the system's largest |residual| sits: interval [k, k+1] and component i of its block
+// (i < kNumStates: the defect of state i; else the costate equation of state i - kNumStates).
+struct ResidualPeak {
+  int interval = -1;  // -1: no valid evaluation
+  int component = -1;
+};
+
+// Largest |residual| of the system at the current unknowns: of all, and of the state defects;
+// where the largest of all sits if `peak` is given.
+void ResidualLevels(Transcription* tr, double* max_all, double* max_state, ResidualPeak* peak = nullptr);
+
+// "the costate equation of V on 20800-20805 m": the peak in words, for a solver's messages.
+std::string DescribePeak(const Transcription& tr, const ResidualPeak& peak);
 
 }  // namespace ttz::lap

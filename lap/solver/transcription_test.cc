@@ -63,5 +63,27 @@ TEST(TranscriptionTest, IntervalJacobiansMatchCentralDifferences) {
   }
 }
 
+// The solver's failure messages name where the largest residual sits (ResidualPeak): the
+// component it names holds the largest |residual|, and a node's speed costate pushed far off
+// shows up in the costate equation of V of one of the node's two intervals.
+TEST(TranscriptionTest, TheResidualPeakIsWhereTheSystemIsOff) {
+  const Vehicle v = testing::Bx15();
+  const testing::MeshedRoad p(v, testing::SyntheticRoad(60.0, 8.0, [](double) { return 0.0; }, [](double) { return 0.0; }),
+                              2.0);
+  Transcription tr = MakeTranscription(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, 1);
+  tr.weight = {0.1, 1e-3};
+  double max_all = 0.0, max_state = 0.0;
+  ResidualPeak peak;
+  ResidualLevels(&tr, &max_all, &max_state, &peak);
+  ASSERT_GE(peak.interval, 0);
+  EXPECT_EQ(std::abs(Residual(&tr, peak.interval)[peak.component]), max_all);
+
+  tr.W(15)[kNumStates + kV] += 1e3 * max_all;  // scaled costate of V
+  ResidualLevels(&tr, &max_all, &max_state, &peak);
+  EXPECT_TRUE(peak.interval == 14 || peak.interval == 15) << peak.interval;
+  EXPECT_EQ(peak.component, kNumStates + kV);
+  EXPECT_EQ(DescribePeak(tr, peak).rfind("the costate equation of V on ", 0), 0u) << DescribePeak(tr, peak);
+}
+
 }  // namespace
 }  // namespace ttz::lap
