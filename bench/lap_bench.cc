@@ -4,8 +4,8 @@
 // CPU time (all threads) per iteration and node, peak memory and the re-simulation check's
 // lap-time and largest state difference (not a test). KEY=VALUE arguments after EPS_START override
 // bike.yaml values as `lap --set` does; `indirect.window_m=M`, `indirect.window_overlap_m=M` and
-// `indirect.max_iterations=N` set the indirect solver's options of those names, `ipopt.NAME=VALUE` Ipopt's option NAME (e.g.
-// `ipopt.print_level=5`). CPU time per iteration and node is the figure to compare across
+// `indirect.max_iterations=N` set the indirect solver's options of those names,
+// `ipopt.NAME=VALUE` Ipopt's option NAME (e.g. `ipopt.print_level=5`). CPU time per iteration and node is the figure to compare across
 // meshes: other processes sharing the machine do not count in it.
 #include <sys/resource.h>
 
@@ -65,9 +65,9 @@ double Number(const std::string& text, const std::string& what) {
 }
 
 // One KEY=VALUE argument: `indirect.window_m`, `indirect.window_overlap_m` and
-// `indirect.max_iterations` set the indirect
-// solver's IndirectOptions of those names, `ipopt.NAME` Ipopt's option NAME
-// (IpoptOptions::extra, checked when Ipopt starts), any other key overrides bike.yaml.
+// `indirect.max_iterations` set the indirect solver's IndirectOptions of those names,
+// `ipopt.NAME` Ipopt's option NAME (IpoptOptions::extra, checked when Ipopt starts), any other
+// key overrides bike.yaml.
 void ParseSetting(const std::string& a, std::vector<std::string>* bike, ttz::lap::IndirectOptions* indirect,
                   ttz::lap::IpoptOptions* ipopt) {
   const size_t eq = a.find('=');

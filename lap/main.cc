@@ -192,13 +192,12 @@ LapSolution Solve(const Arguments& a, const Vehicle& v, const RoadTrack& track, 
 
 // The windows of the indirect solver's first step (IndirectOptions::window_m) from the command line.
 void SetWindows(const Arguments& a, IndirectOptions* options) {
-  if (a.window_m > 0.0 && a.window_overlap_m >= a.window_m) {
-    std::ostringstream o;
-    o << a.window_overlap_m << " m, expected less than --window (" << a.window_m << " m)";
-    throw ttz::InputError("--window-overlap", o.str());
-  }
   options->window_m = a.window_m;
   options->window_overlap_m = a.window_overlap_m;
+  if (options->WindowsAreValid()) return;
+  std::ostringstream o;
+  o << a.window_overlap_m << " m, expected less than --window (" << a.window_m << " m)";
+  throw ttz::InputError("--window-overlap", o.str());
 }
 
 int Run(const Arguments& a) {

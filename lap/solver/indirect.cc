@@ -489,7 +489,7 @@ LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
                           const std::vector<ControlVector<double>>& u_guess,
                           const IndirectOptions& options, SolveSummary* summary) {
   const auto start = std::chrono::steady_clock::now();
-  if (options.window_m > 0.0 && !(options.window_overlap_m >= 0.0 && options.window_overlap_m < options.window_m))
+  if (!options.WindowsAreValid())
     throw std::invalid_argument("IndirectOptions: window_overlap_m must lie in [0, window_m)");
   if (options.window_m > 0.0 && lambda_guess.empty() && mesh.back() - mesh.front() > options.window_m) {
     std::vector<StateVector<double>> x = x_guess, lambda;

@@ -63,6 +63,10 @@ struct IndirectOptions {
   // SolveIndirect throws std::invalid_argument.
   double window_m = 0.0;
   double window_overlap_m = 1000.0;
+  // The condition above on window_m and window_overlap_m.
+  bool WindowsAreValid() const {
+    return window_m <= 0.0 || (window_overlap_m >= 0.0 && window_overlap_m < window_m);
+  }
   int num_threads = 2;           // for the node evaluations and Ceres
   bool verbose = false;          // Ceres' per-iteration log
 };
