@@ -1,5 +1,5 @@
 // Benchmark of the lap solvers on a piece of a road.h5 (e.g. the Snaefell course that `make run`
-// fits): both solvers from the QSS guess on the mesh of `lap --ds DS_M --dt-max DT_MAX_S` (lap/mesh.h)
+// fits): both solvers from the QSS guess (on the racing line unless `guess=centre-line`) on the mesh of `lap --ds DS_M --dt-max DT_MAX_S` (lap/mesh.h)
 // from 0 to LENGTH_M, printing lap time, convergence, iterations, wall time, time per iteration,
 // CPU time (all threads) per iteration and node, peak memory and the re-simulation check's
 // lap-time and largest state difference (not a test). KEY=VALUE arguments after EPS_START override
@@ -64,33 +64,44 @@ double Number(const std::string& text, const std::string& what) {
   throw std::invalid_argument(what + ": '" + text + "' is not a number");
 }
 
+// What the KEY=VALUE arguments set.
+struct Settings {
+  std::vector<std::string> bike;  // bike.yaml overrides, as `lap --set`
+  ttz::lap::IndirectOptions indirect;
+  ttz::lap::IpoptOptions ipopt;
+  bool racing_line = true;  // the guess: the QSS lap on the racing line, as `lap --guess`
+};
+
 // One KEY=VALUE argument: `indirect.window_m`, `indirect.window_overlap_m` and
 // `indirect.max_iterations` set the indirect solver's IndirectOptions of those names,
-// `ipopt.NAME` Ipopt's option NAME (IpoptOptions::extra, checked when Ipopt starts), any other
-// key overrides bike.yaml.
-void ParseSetting(const std::string& a, std::vector<std::string>* bike, ttz::lap::IndirectOptions* indirect,
-                  ttz::lap::IpoptOptions* ipopt) {
+// `ipopt.NAME` Ipopt's option NAME (IpoptOptions::extra, checked when Ipopt starts),
+// `guess=centre-line` or `guess=racing-line` the initial guess (`lap --guess`), any other key
+// overrides bike.yaml.
+void ParseSetting(const std::string& a, Settings* settings) {
   const size_t eq = a.find('=');
   const std::string key = a.substr(0, eq), value = eq == std::string::npos ? "" : a.substr(eq + 1);
+  ttz::lap::IndirectOptions* indirect = &settings->indirect;
   if (key == "indirect.window_m") indirect->window_m = Number(value, key);
   else if (key == "indirect.window_overlap_m") indirect->window_overlap_m = Number(value, key);
   else if (key == "indirect.max_iterations") indirect->max_iterations = static_cast<int>(Number(value, key));
   else if (key.rfind("indirect.", 0) == 0)
     throw std::invalid_argument(key + ": not an option of lap_bench (indirect.window_m, indirect.window_overlap_m, "
                                       "indirect.max_iterations)");
-  else if (key.rfind("ipopt.", 0) == 0 && eq != std::string::npos) ipopt->extra.emplace_back(key.substr(6), value);
-  else bike->push_back(a);
+  else if (key.rfind("ipopt.", 0) == 0 && eq != std::string::npos) settings->ipopt.extra.emplace_back(key.substr(6), value);
+  else if (key == "guess" && (value == "centre-line" || value == "racing-line")) settings->racing_line = value == "racing-line";
+  else if (key == "guess") throw std::invalid_argument("guess: '" + value + "', expected centre-line or racing-line");
+  else settings->bike.push_back(a);
 }
 
 int Bench(int argc, char** argv) {
   using namespace ttz::lap;
   ttz::SetLogLevel(2);  // progress (window, continuation steps) on stderr
-  std::vector<std::string> bike_overrides;
-  IndirectOptions indirect;
-  IpoptOptions ipopt;
-  if (argc > 7) indirect.eps_start = Number(argv[7], "EPS_START");
-  for (int i = 8; i < argc; ++i) ParseSetting(argv[i], &bike_overrides, &indirect, &ipopt);
-  const Vehicle v = MakeVehicle(LoadBike(argv[2], bike_overrides));
+  Settings settings;
+  if (argc > 7) settings.indirect.eps_start = Number(argv[7], "EPS_START");
+  for (int i = 8; i < argc; ++i) ParseSetting(argv[i], &settings);
+  const IndirectOptions& indirect = settings.indirect;
+  const IpoptOptions& ipopt = settings.ipopt;
+  const Vehicle v = MakeVehicle(LoadBike(argv[2], settings.bike));
   const RoadTrack road(ttz::ReadRoad(argv[1]));
   MeshOptions mesh_options;
   mesh_options.ds_m = Number(argv[3], "DS_M");
@@ -98,8 +109,11 @@ int Bench(int argc, char** argv) {
   const double length = std::min(Number(argv[4], "LENGTH_M"), road.Length());
   const std::vector<double> mesh = LapMesh(v, road, length, mesh_options);
   const std::string which = argc > 5 ? argv[5] : "both";
-  const QssLap qss = ComputeQss(v, road, mesh);
-  std::printf("%zu nodes over %.1f m, QSS lap %.4f s\n", mesh.size(), mesh.back(), qss.lap_time);
+  const QssLap centre = ComputeQss(v, road, mesh);
+  const QssLap qss =
+      settings.racing_line ? ComputeQss(v, road, mesh, ComputeRacingLine(road, mesh, v.border_margin)) : centre;
+  std::printf("%zu nodes over %.1f m, QSS lap %.4f s (the guess: %.4f s on the %s)\n", mesh.size(), mesh.back(),
+              centre.lap_time, qss.lap_time, settings.racing_line ? "racing line" : "centre line");
   std::printf("%-9s %10s %12s %5s %6s %9s %10s %11s %8s %9s %8s %-9s\n", "solver", "lap_s", "extrap_s",
               "conv", "iters", "wall_s", "s_per_iter", "cpu_us_node", "peak_MB", "resim_t%",
               "resim_x%", "worst");

@@ -164,6 +164,8 @@ void WriteAttributes(ArtefactWriter& w, const LapSolution& sol, const SolveSumma
   w.WriteAttribute("road_length", p.road_length);
   w.WriteAttribute("init_file", p.init_file);
   w.WriteBoolAttribute("mesh_from_init", p.mesh_from_init);
+  w.WriteAttribute("guess", p.guess);
+  w.WriteAttribute("guess_lap_time", p.guess_lap_time);
   w.WriteAttribute("tool_version", TTZ_VERSION);
 }
 

@@ -40,6 +40,8 @@ struct LapProvenance {
   std::string init_file;     // the --init file, "" when none
   MeshOptions mesh;          // how the mesh was built (--ds, --dt-max)
   bool mesh_from_init = false;  // the mesh is the --init file's (lap/main.cc, UseInitMesh)
+  std::string guess;            // where the solve started: "racing-line", "centre-line" (--guess) or "init"
+  double guess_lap_time = 0.0;  // the guess's lap time [s] (the QSS lap's on its line; 0 with --init)
   LapSolverOptions solver_options;
 };
 

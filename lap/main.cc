@@ -30,7 +30,7 @@ namespace {
 using namespace ttz::lap;
 
 struct Arguments {
-  std::string road, bike, output, init, solver = "indirect";
+  std::string road, bike, output, init, solver = "indirect", guess = "racing-line";
   std::vector<std::string> overrides;
   MeshOptions mesh;
   int max_iterations = 0;  // 0: the solver's default
@@ -68,6 +68,11 @@ void DefineOptions(CLI::App& app, Arguments& a) {
                  "its mesh too when it is a lap of this road file with the same --ds and --dt-max");
   app.add_option("--solver", a.solver, "indirect (Ceres, the default) or ipopt (the direct-transcription oracle)")
       ->check(CLI::IsMember({"indirect", "ipopt"}))
+      ->capture_default_str();
+  app.add_option("--guess", a.guess,
+                 "the initial guess: the quasi-steady lap on the racing line (the least-curvature path, "
+                 "lap/racing_line.h) or on the centre line; without --init")
+      ->check(CLI::IsMember({"racing-line", "centre-line"}))
       ->capture_default_str();
   app.add_option("--max-iterations", a.max_iterations,
                  "iteration limit: Ceres iterations of the first continuation step (indirect, default " +
@@ -155,6 +160,23 @@ SolverGuess WarmStartGuess(const WarmStart& ws, const Vehicle& v, const std::vec
   return g;
 }
 
+// Where the solve starts: the guess, what it is ("racing-line", "centre-line" or "init") and the
+// guess's lap time [s] (0 for "init").
+struct Start {
+  SolverGuess guess;
+  std::string kind;
+  double lap_time = 0.0;
+};
+
+// The start without --init: the QSS lap on the racing line (--guess racing-line,
+// lap/racing_line.h) or the centre line's, `qss`.
+Start QssStart(const Arguments& a, const Vehicle& v, const RoadTrack& track, const std::vector<double>& mesh,
+               const QssLap& qss) {
+  const QssLap on_line =
+      a.guess == "centre-line" ? qss : ComputeQss(v, track, mesh, ComputeRacingLine(track, mesh, v.border_margin));
+  return {{on_line.x, {}, on_line.u, {}}, a.guess, on_line.lap_time};
+}
+
 // The options of --solver ipopt from the command line.
 IpoptOptions IpoptOptionsOf(const Arguments& a) {
   IpoptOptions ipopt;
@@ -177,11 +199,15 @@ constexpr double kIndirectLongestSolvedRoadM = 5100.0;
 
 // The one place that dispatches on --solver.
 LapSolution Solve(const Arguments& a, const Vehicle& v, const RoadTrack& track, const std::vector<double>& mesh,
-                  const QssLap& qss, const SolverGuess& guess, const IpoptOptions& ipopt,
+                  const QssLap& qss, const Start& start, const IpoptOptions& ipopt,
                   const IndirectOptions& options, SolveSummary* summary) {
   std::ostringstream o;
   o << a.road << ": " << mesh.size() << " nodes over " << track.Length() << " m, quasi-steady lap "
-    << qss.lap_time << " s; solving with " << a.solver;
+    << qss.lap_time << " s; solving with " << a.solver << " from ";
+  if (start.kind == "init") o << a.init;
+  else o << "the quasi-steady lap on the " << (start.kind == "racing-line" ? "racing line" : "centre line") << " ("
+         << start.lap_time << " s)";
+  const SolverGuess& guess = start.guess;
   ttz::Log(ttz::LogKind::kInfo, o.str());
   if (a.solver == "ipopt") return SolveDirectIpopt(v, track, mesh, guess, ipopt, summary);
   if (track.Length() > kIndirectLongestSolvedRoadM)  // told now, not after an hour's failed solve
@@ -218,16 +244,16 @@ int Run(const Arguments& a) {
   const QssLap qss = ComputeQss(v, track, mesh);
   if (a.max_iterations > 0) options.max_iterations = a.max_iterations;
   options.verbose = a.verbose && !a.json;  // Ceres prints its iterations on stdout
-  const SolverGuess guess =
-      init ? WarmStartGuess(*init, v, mesh, qss, &options) : SolverGuess{qss.x, {}, qss.u, {}};
+  const Start start = init ? Start{WarmStartGuess(*init, v, mesh, qss, &options), "init", 0.0}
+                           : QssStart(a, v, track, mesh, qss);
   const IpoptOptions ipopt = IpoptOptionsOf(a);
   SolveSummary summary;
-  const LapSolution sol = Solve(a, v, track, mesh, qss, guess, ipopt, options, &summary);
+  const LapSolution sol = Solve(a, v, track, mesh, qss, start, ipopt, options, &summary);
   const ResimReport resim = Resimulate(v, track, sol, ResimOptions{});
   const LapChannels channels = ComputeLapChannels(v, track, sol);
   WriteLap(a.output, v, sol, summary, channels, qss, resim,
            {a.solver, BikeToYaml(bike), a.road, road_sha256, track.Length(), a.init, a.mesh, mesh_from_init,
-            SolverOptionsOf(a, ipopt, options)});
+            start.kind, start.lap_time, SolverOptionsOf(a, ipopt, options)});
   std::cout << (a.json ? LapReportJson(sol, summary, channels.figures, resim)
                        : LapReportText(sol, summary, channels.figures, resim))
             << std::flush;

@@ -407,6 +407,13 @@ QssLap Assemble(const std::vector<double>& mesh, const std::vector<NodePoint>& n
   return q;
 }
 
+// The QSS lap through the road points rp at the mesh nodes.
+QssLap QssOn(const Vehicle& v, const std::vector<RoadPoint>& rp, const std::vector<double>& mesh) {
+  std::vector<double> cap(rp.size());
+  for (size_t i = 0; i < rp.size(); ++i) cap[i] = SpeedCap(v, rp[i]);
+  return Assemble(mesh, EnergyLimitedPass(v, rp, mesh, BrakingEnvelope(v, rp, mesh, cap)));
+}
+
 }  // namespace
 
 double MaxTractionForce(const Vehicle& v, double V, double e, double T) {
@@ -425,14 +432,27 @@ double MaxTractionForce(const Vehicle& v, double V, double e, double T) {
 }
 
 QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh) {
+  std::vector<RoadPoint> rp(mesh.size());
+  for (size_t i = 0; i < mesh.size(); ++i) rp[i] = road.At(mesh[i]);
+  return QssOn(v, rp, mesh);
+}
+
+QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh,
+                  const RacingLine& line) {
   const int n = static_cast<int>(mesh.size());
   std::vector<RoadPoint> rp(n);
-  std::vector<double> cap(n);
   for (int i = 0; i < n; ++i) {
     rp[i] = road.At(mesh[i]);
-    cap[i] = SpeedCap(v, rp[i]);
+    rp[i].kappa = line.kappa[i];
+    rp[i].dkappa = Slope(mesh, line.kappa, i);
   }
-  return Assemble(mesh, EnergyLimitedPass(v, rp, mesh, BrakingEnvelope(v, rp, mesh, cap)));
+  QssLap q = QssOn(v, rp, mesh);
+  for (int i = 1; i < n; ++i) {
+    const double kappa = road.At(mesh[i]).kappa;
+    q.x[i][kN] = line.n[i];
+    q.x[i][kAlpha] += std::atan(line.dn_ds[i] / (1.0 - line.n[i] * kappa));
+  }
+  return q;
 }
 
 }  // namespace ttz::lap

@@ -11,6 +11,7 @@
 
 #include "lap/model/state.h"
 #include "lap/model/vehicle.h"
+#include "lap/racing_line.h"
 #include "lap/road_track.h"
 
 namespace ttz::lap {
@@ -40,5 +41,13 @@ double MaxTractionForce(const Vehicle& v, double V, double e, double T);
 // the pack is empty, and the pack's power held under one limit for the whole lap, the largest
 // that leaves 1 % of the pack at the end (an energy-saving lap, paper sec. 5).
 QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh);
+
+// The same on a racing line (racing_line.h) instead of the centre line: each node's quasi-steady
+// state on a path of the line's curvature, with the line's offset n and heading alpha (tan of
+// alpha + beta = n' / (1 - n kappa), eq. 10) in the states from node 1 on. The solvers' initial
+// guess (lap/main.cc); the centre line's stays the yardstick. Distances are the road's: the lap
+// time ignores the line's own length (within ~n kappa of it).
+QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh,
+                  const RacingLine& line);
 
 }  // namespace ttz::lap

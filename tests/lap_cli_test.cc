@@ -134,6 +134,8 @@ TEST_F(LapCli, AStraightRoadSolvesWritesLapH5AndWarmStartsTheNextSolve) {
   const ttz::ArtefactReader r(lap, "ttz.lap", 3);
   EXPECT_TRUE(r.ReadBoolAttribute("converged"));
   EXPECT_EQ(r.ReadStringAttribute("road_sha256"), ttz::FileSha256(road));
+  EXPECT_EQ(r.ReadStringAttribute("guess"), "racing-line");  // the default
+  EXPECT_GT(r.ReadDoubleAttribute("guess_lap_time"), r.ReadDoubleAttribute("lap_time"));
   // 101 nodes 2 m apart, and the launch's intervals split to 0.25 s of the QSS speed (lap/mesh.h)
   const size_t nodes = r.ReadIntAttribute("nodes");
   EXPECT_GT(nodes, 101u);
@@ -159,6 +161,7 @@ TEST_F(LapCli, AStraightRoadSolvesWritesLapH5AndWarmStartsTheNextSolve) {
   const ttz::ArtefactReader w(Path("warm.h5"), "ttz.lap", 3);
   EXPECT_EQ(w.ReadStringAttribute("init_file"), lap);
   EXPECT_FALSE(w.ReadBoolAttribute("mesh_from_init"));  // --ds 4, not 2
+  EXPECT_EQ(w.ReadStringAttribute("guess"), "init");
   EXPECT_NEAR(w.ReadDoubleAttribute("lap_time"), r.ReadDoubleAttribute("lap_time"), 0.01 * t.back());
 
   // The same lap as the warm start of another (longer) road is refused.
@@ -478,6 +481,7 @@ TEST_F(LapCli, TheIndirectSolverSolvesInWindowsWhenAsked) {
 TEST_F(LapCli, BadOptions) {
   ExpectBadInput(Lap("road.h5 bike.yaml --ds -1"), "--ds");
   ExpectBadInput(Lap("road.h5 bike.yaml --solver newton"), "--solver");
+  ExpectBadInput(Lap("road.h5 bike.yaml --guess apex"), "--guess");
   ExpectBadInput(Lap("road.h5 bike.yaml --mu-globalization never"), "--mu-globalization");
   ExpectBadInput(Lap("road.h5 bike.yaml --mu-strategy sometimes"), "--mu-strategy");
   ExpectBadInput(Lap("road.h5 bike.yaml --mu-init 0"), "--mu-init");

@@ -470,7 +470,10 @@ bool SolveFirstStepInWindows(const Vehicle& v, const RoadTrack& road,
     if (!ws.converged) return false;
     int keep = b;
     while (!last && keep > a + 1 && mesh[keep] > mesh[b] - options.window_overlap_m) --keep;
-    for (int k = a; k <= keep; ++k) {
+    // The whole window, overlap included: the next window solves the overlap again from this
+    // window's states and controls there, which hold the start state it gets at mesh[keep],
+    // rather than from the guess.
+    for (int k = a; k <= b; ++k) {
       (*x_guess)[k] = sol.x[k - a];
       (*lambda_guess)[k] = sol.lambda[k - a];
       (*u_guess)[k] = sol.u[k - a];
@@ -495,8 +498,13 @@ LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
     std::vector<StateVector<double>> x = x_guess, lambda;
     std::vector<ControlVector<double>> u = u_guess;
     SolveSummary windows;
-    const bool ok = SolveFirstStepInWindows(v, road, mesh, options, &x, &lambda, &u, &windows);
-    IndirectOptions whole = options;
+    IndirectOptions windowed = options;  // the first step at the retry's weight (indirect.h)
+    if (options.retry_eps_start > 0.0 && options.retry_eps_start < options.eps_start) {
+      windowed.eps_start = options.retry_eps_start;
+      windowed.retry_eps_start = 0.0;
+    }
+    const bool ok = SolveFirstStepInWindows(v, road, mesh, windowed, &x, &lambda, &u, &windows);
+    IndirectOptions whole = ok ? windowed : options;
     whole.window_m = 0.0;
     if (!ok) Log(LogKind::kInfo, "a window of the first step failed: the whole road from the guess");
     LapSolution sol = ok ? SolveIndirect(v, road, mesh, x, lambda, u, whole, summary)

@@ -51,9 +51,10 @@ struct IndirectOptions {
   bool arclength = true;
   double arclength_dlogeps = 0.36;  // first step's change of log eps (~ log of eps_factor)
   // The first step from a guess without costates, on a road longer than `window_m` [m] (0: never
-  // windowed): solved window by window at eps_start, each window's start state fixed by the
-  // previous window's solution and its end free (a window that fails at eps_start is solved
-  // again from its guess at 10 eps_start and followed down to eps_start), keeping each window but
+  // windowed): solved window by window at eps_start (at retry_eps_start instead when that is set
+  // and smaller: the weight at which the windows converged on the TT course, docs/lap.md), each
+  // window's start state fixed by the previous window's solution and its end free (a window that
+  // fails is solved again from its guess at ten times the weight and followed down to it), keeping each window but
   // its last `window_overlap_m` (where its free end pulls the costates to zero); the continuation then
   // starts on the whole road from the stitched states and costates. From the QSS guess the first
   // step's difficulty grows with the road (docs/lap.md "Status"); the prototype's 60 km first step

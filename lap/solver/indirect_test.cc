@@ -87,10 +87,11 @@ TEST(IndirectTest, AFirstStepSolvedInWindowsEndsOnTheSameLap) {
   const LapSolution b = SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, options, &windowed);
   ASSERT_TRUE(whole.converged) << whole.message;
   ASSERT_TRUE(windowed.converged) << windowed.message;
-  // The windows 0-150, 100-250 and 200-300 m come first among the steps, each at eps_start.
+  // The windows 0-150, 100-250 and 200-300 m come first among the steps, each at the retry's
+  // weight (0.1; IndirectOptions::window_m), as the whole road's first step after them.
   ASSERT_GT(windowed.steps.size(), 3u);
   int at_start = 0;
-  for (const ContinuationStep& step : windowed.steps) at_start += step.eps == options.eps_start;
+  for (const ContinuationStep& step : windowed.steps) at_start += step.eps == options.retry_eps_start;
   EXPECT_EQ(at_start, 7);  // three windows' first steps (midpoints, then nodes) and the whole road's
   EXPECT_NEAR(b.lap_time, a.lap_time, 1e-6 * a.lap_time);
   EXPECT_NEAR(b.lap_time_extrapolated, a.lap_time_extrapolated, 1e-6 * a.lap_time);
