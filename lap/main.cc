@@ -30,7 +30,7 @@ namespace {
 using namespace ttz::lap;
 
 struct Arguments {
-  std::string road, bike, output, init, solver = "indirect", guess = "racing-line";
+  std::string road, bike, output, init, solver = "indirect", guess;  // guess "": the solver's default (QssStart)
   std::vector<std::string> overrides;
   MeshOptions mesh;
   int max_iterations = 0;  // 0: the solver's default
@@ -70,10 +70,10 @@ void DefineOptions(CLI::App& app, Arguments& a) {
       ->check(CLI::IsMember({"indirect", "ipopt"}))
       ->capture_default_str();
   app.add_option("--guess", a.guess,
-                 "the initial guess: the quasi-steady lap on the racing line (the least-curvature path, "
-                 "lap/racing_line.h) or on the centre line; without --init")
-      ->check(CLI::IsMember({"racing-line", "centre-line"}))
-      ->capture_default_str();
+                 "the initial guess without --init: the quasi-steady lap on the racing line (the least-curvature "
+                 "path, lap/racing_line.h) or on the centre line; default racing-line for the indirect solver, "
+                 "centre-line for ipopt (docs/lap.md \"A racing line for the guess\")")
+      ->check(CLI::IsMember({"racing-line", "centre-line"}));
   app.add_option("--max-iterations", a.max_iterations,
                  "iteration limit: Ceres iterations of the first continuation step (indirect, default " +
                      std::to_string(IndirectOptions{}.max_iterations) + ") or Ipopt iterations (ipopt, default " +
@@ -169,12 +169,16 @@ struct Start {
 };
 
 // The start without --init: the QSS lap on the racing line (--guess racing-line,
-// lap/racing_line.h) or the centre line's, `qss`.
+// lap/racing_line.h) or the centre line's, `qss`. Without --guess, the racing line for the
+// indirect solver (from the centre line its first step stalls on the TT course's fast bends)
+// and the centre line for Ipopt (the racing line took it fewer iterations on the course's first
+// 5 km and more on the whole course: docs/lap.md "A racing line for the guess").
 Start QssStart(const Arguments& a, const Vehicle& v, const RoadTrack& track, const std::vector<double>& mesh,
                const QssLap& qss) {
+  const std::string kind = !a.guess.empty() ? a.guess : a.solver == "ipopt" ? "centre-line" : "racing-line";
   const QssLap on_line =
-      a.guess == "centre-line" ? qss : ComputeQss(v, track, mesh, ComputeRacingLine(track, mesh, v.border_margin));
-  return {{on_line.x, {}, on_line.u, {}}, a.guess, on_line.lap_time};
+      kind == "centre-line" ? qss : ComputeQss(v, track, mesh, ComputeRacingLine(track, mesh, v.border_margin));
+  return {{on_line.x, {}, on_line.u, {}}, kind, on_line.lap_time};
 }
 
 // The options of --solver ipopt from the command line.

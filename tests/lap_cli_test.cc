@@ -255,6 +255,7 @@ TEST_F(LapCli, AnIpoptLapWarmStartsIpoptOnItsOwnMesh) {
   ASSERT_TRUE(solved(options + gear + " --init " + Path("a.h5"), "warm.h5"));
   const ttz::ArtefactReader a(Path("a.h5"), "ttz.lap", 3), again(Path("again.h5"), "ttz.lap", 3),
       cold(Path("cold.h5"), "ttz.lap", 3), warm(Path("warm.h5"), "ttz.lap", 3);
+  EXPECT_EQ(a.ReadStringAttribute("guess"), "centre-line");  // Ipopt's default (lap/main.cc)
   EXPECT_EQ(again.ReadVector("s", "m"), a.ReadVector("s", "m"));
   EXPECT_LT(again.ReadIntAttribute("iterations"), a.ReadIntAttribute("iterations") / 2);
   EXPECT_NEAR(again.ReadDoubleAttribute("lap_time"), a.ReadDoubleAttribute("lap_time"),
