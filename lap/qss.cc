@@ -441,16 +441,17 @@ QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<dou
                   const RacingLine& line) {
   const int n = static_cast<int>(mesh.size());
   std::vector<RoadPoint> rp(n);
+  std::vector<double> road_kappa(n);
   for (int i = 0; i < n; ++i) {
     rp[i] = road.At(mesh[i]);
+    road_kappa[i] = rp[i].kappa;
     rp[i].kappa = line.kappa[i];
     rp[i].dkappa = Slope(mesh, line.kappa, i);
   }
   QssLap q = QssOn(v, rp, mesh);
   for (int i = 1; i < n; ++i) {
-    const double kappa = road.At(mesh[i]).kappa;
     q.x[i][kN] = line.n[i];
-    q.x[i][kAlpha] += std::atan(line.dn_ds[i] / (1.0 - line.n[i] * kappa));
+    q.x[i][kAlpha] += std::atan(line.dn_ds[i] / (1.0 - line.n[i] * road_kappa[i]));
   }
   return q;
 }

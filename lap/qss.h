@@ -44,8 +44,8 @@ QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<dou
 
 // The same on a racing line (racing_line.h) instead of the centre line: each node's quasi-steady
 // state on a path of the line's curvature, with the line's offset n and heading alpha (tan of
-// alpha + beta = n' / (1 - n kappa), eq. 10) in the states from node 1 on. The solvers' initial
-// guess (lap/main.cc); the centre line's stays the yardstick. Distances are the road's: the lap
+// alpha + beta = n' / (1 - n kappa), eq. 10) in the states from node 1 on. The indirect solver's
+// default initial guess (lap/main.cc, QssStart); the centre line's stays the yardstick. Distances are the road's: the lap
 // time ignores the line's own length (within ~n kappa of it).
 QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh,
                   const RacingLine& line);

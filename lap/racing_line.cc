@@ -3,7 +3,6 @@
 #include <ceres/ceres.h>
 
 #include <algorithm>
-
 #include <stdexcept>
 
 namespace ttz::lap {
@@ -15,8 +14,12 @@ RacingLine ComputeRacingLine(const RoadTrack& road, const std::vector<double>& m
   line.n.assign(nodes, 0.0);
   line.dn_ds.assign(nodes, 0.0);
   line.kappa.resize(nodes);
-  std::vector<double> kappa(nodes);
-  for (int k = 0; k < nodes; ++k) kappa[k] = road.At(mesh[k]).kappa;
+  std::vector<double> kappa(nodes), bound(nodes);  // road curvature; the largest |n| (RacingLineOptions)
+  for (int k = 0; k < nodes; ++k) {
+    const RoadPoint p = road.At(mesh[k]);
+    kappa[k] = p.kappa;
+    bound[k] = options.width_share * std::max(0.0, 0.5 * p.width - border_margin_m);
+  }
   if (nodes >= 3) {
     ceres::Problem problem;
     for (int k = 1; k + 1 < nodes; ++k) {
@@ -33,10 +36,8 @@ RacingLine ComputeRacingLine(const RoadTrack& road, const std::vector<double>& m
     }
     problem.SetParameterBlockConstant(&line.n[0]);
     for (int k = 1; k < nodes; ++k) {
-      const double bound =
-          options.width_share * std::max(0.0, 0.5 * road.At(mesh[k]).width - border_margin_m);
-      problem.SetParameterLowerBound(&line.n[k], 0, -bound);
-      problem.SetParameterUpperBound(&line.n[k], 0, bound);
+      problem.SetParameterLowerBound(&line.n[k], 0, -bound[k]);
+      problem.SetParameterUpperBound(&line.n[k], 0, bound[k]);
     }
     ceres::Solver::Options o;
     o.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
