@@ -100,10 +100,11 @@ int Bench(int argc, char** argv) {
   Settings settings;
   if (argc > 7) settings.indirect.eps_start = Number(argv[7], "EPS_START");
   for (int i = 8; i < argc; ++i) ParseSetting(argv[i], &settings);
-  const IndirectOptions& indirect = settings.indirect;
   const IpoptOptions& ipopt = settings.ipopt;
   const Vehicle v = MakeVehicle(LoadBike(argv[2], settings.bike));
   const RoadTrack road(ttz::ReadRoad(argv[1]));
+  IndirectOptions indirect = settings.indirect;
+  indirect.window_guess = QssWindowGuess(v, road);  // as `lap`
   MeshOptions mesh_options;
   mesh_options.ds_m = Number(argv[3], "DS_M");
   if (argc > 6) mesh_options.dt_max_s = Number(argv[6], "DT_MAX_S");

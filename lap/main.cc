@@ -239,6 +239,7 @@ int Run(const Arguments& a) {
   CheckRoadFitsBike(road, a.road, bike);
   const Vehicle v = MakeVehicle(bike);
   const RoadTrack track(road, a.road);
+  options.window_guess = QssWindowGuess(v, track);
   const std::string road_sha256 = ttz::FileSha256(a.road);
   const std::optional<WarmStart> init =
       a.init.empty() ? std::nullopt : std::optional<WarmStart>(ReadInit(a, road_sha256, track.Length()));

@@ -456,4 +456,24 @@ QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<dou
   return q;
 }
 
+QssLap ComputeQssFrom(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh,
+                      const StateVector<double>& start) {
+  Vehicle from = v;
+  from.V0 = start[kV];
+  from.T0 = start[kT];
+  from.e0 = start[kE];
+  QssLap q = ComputeQss(from, road, mesh, ComputeRacingLine(road, mesh, v.border_margin));
+  q.x.front() = start;
+  return q;
+}
+
+WindowGuess QssWindowGuess(const Vehicle& v, const RoadTrack& road) {
+  return [&v, &road](const StateVector<double>& start, const std::vector<double>& mesh,
+                     std::vector<StateVector<double>>* x, std::vector<ControlVector<double>>* u) {
+    QssLap q = ComputeQssFrom(v, road, mesh, start);
+    *x = std::move(q.x);
+    *u = std::move(q.u);
+  };
+}
+
 }  // namespace ttz::lap

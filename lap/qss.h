@@ -13,6 +13,7 @@
 #include "lap/model/vehicle.h"
 #include "lap/racing_line.h"
 #include "lap/road_track.h"
+#include "lap/solver/indirect.h"
 
 namespace ttz::lap {
 
@@ -49,5 +50,16 @@ QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<dou
 // time ignores the line's own length (within ~n kappa of it).
 QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh,
                   const RacingLine& line);
+
+// The QSS lap on the racing line of `mesh` (ComputeRacingLine with the bike's border margin)
+// from `start` instead of the bike's initial state: its speed, motor temperature and energy
+// start the profile, and x[0] is `start` whole. The guess of a window of the indirect solver's
+// first step (QssWindowGuess).
+QssLap ComputeQssFrom(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh,
+                      const StateVector<double>& start);
+
+// ComputeQssFrom as the indirect solver's window guess (IndirectOptions::window_guess); `v` and
+// `road` must outlive it.
+WindowGuess QssWindowGuess(const Vehicle& v, const RoadTrack& road);
 
 }  // namespace ttz::lap

@@ -32,6 +32,27 @@ TEST_F(QssPackTest, AFullPackRunsAtFullPower) {
   EXPECT_NEAR(v.e0 - q.x.back()[kE], 4.854e6, 1e3);
 }
 
+// The QSS lap from a state part-way along (ComputeQssFrom, the indirect solver's window guess)
+// continues the whole road's: its first node is that state, and the rest starts from its speed,
+// motor temperature and energy (on a straight the racing line is the centre line, so the two
+// profiles agree to the passes' rounding).
+TEST_F(QssPackTest, TheLapFromAStateContinuesTheWholeRoads) {
+  const Vehicle v = Bx15();
+  const QssLap whole = ComputeQss(v, road, mesh);
+  const int k = 100;  // 1 km along, at ~37 m/s
+  StateVector<double> start = whole.x[k];
+  start[kPhi] = 0.01;  // a state the QSS would not give: kept at the first node
+  const std::vector<double> tail(mesh.begin() + k, mesh.end());
+  const QssLap from = ComputeQssFrom(v, road, tail, start);
+  ASSERT_EQ(from.x.size(), tail.size());
+  EXPECT_EQ(from.x.front()[kPhi], 0.01);
+  for (int i : {1, 50, static_cast<int>(tail.size()) - 1}) {
+    EXPECT_NEAR(from.x[i][kV], whole.x[k + i][kV], 1e-3 * whole.x[k + i][kV]) << i;
+    EXPECT_NEAR(from.x[i][kE], whole.x[k + i][kE], 1e-3 * v.e0) << i;
+    EXPECT_NEAR(from.x[i][kT], whole.x[k + i][kT], 0.05) << i;
+  }
+}
+
 // A pack of 0.96 MJ (96 cells of 10 kJ, as heavy as the full pack: only the energy differs) ends
 // the lap with between 1 % (the reserve) and 1.2 % of its energy (the bisection stops at 0.1 % of
 // the power limit, ~0.07 % of the energy), and so spends the rest of it over the whole lap; full

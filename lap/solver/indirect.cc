@@ -443,10 +443,13 @@ bool SolveFirstStepInWindows(const Vehicle& v, const RoadTrack& road,
   window.window_m = 0.0;
   window.eps_end = options.eps_start;  // the first step alone
   window.retry_eps_start = 0.0;
-  // A window whose step fails at eps_start is solved again from its guess under a ten times
-  // heavier barrier and followed down to eps_start (docs/lap.md "A price on rolling the bike").
+  // A window whose step fails at eps_start from the stitched guess is solved again from its own
+  // guess (window_guess), then from the stitched guess under a ten times heavier barrier followed
+  // down to eps_start (docs/lap.md "A price on rolling the bike").
   IndirectOptions heavier = window;
   heavier.eps_start = 10.0 * options.eps_start;
+  window.window_guess = nullptr;
+  heavier.window_guess = nullptr;
   for (int a = 0;;) {
     int b = a;
     while (b + 1 < n && mesh[b] < mesh[a] + options.window_m) ++b;
@@ -454,18 +457,25 @@ bool SolveFirstStepInWindows(const Vehicle& v, const RoadTrack& road,
     std::vector<double> sub_mesh(mesh.begin() + a, mesh.begin() + b + 1);
     std::vector<StateVector<double>> sub_x(x_guess->begin() + a, x_guess->begin() + b + 1);
     std::vector<ControlVector<double>> sub_u(u_guess->begin() + a, u_guess->begin() + b + 1);
+    // The tries: the stitched guess, the window's own (window_guess), the stitched guess under
+    // the heavier weight.
+    std::vector<StateVector<double>> own_x;
+    std::vector<ControlVector<double>> own_u;
     SolveSummary ws;
     LapSolution sol;
-    for (const IndirectOptions* o : {&window, &heavier}) {
-      sol = SolveIndirect(v, road, sub_mesh, sub_x, {}, sub_u, *o, &ws);
+    for (int attempt = 0; attempt < 3 && !ws.converged; ++attempt) {
+      const bool own = attempt == 1;
+      if (own && !options.window_guess) continue;
+      if (own) options.window_guess(sub_x.front(), sub_mesh, &own_x, &own_u);
+      const IndirectOptions& o = attempt == 2 ? heavier : window;
+      sol = SolveIndirect(v, road, sub_mesh, own ? own_x : sub_x, {}, own ? own_u : sub_u, o, &ws);
       summary->iterations += ws.iterations;
       summary->steps.insert(summary->steps.end(), ws.steps.begin(), ws.steps.end());
       std::ostringstream line;
-      line << "window " << mesh[a] << " - " << mesh[b] << " m from eps " << o->eps_start << ": "
-           << (ws.converged ? "converged" : "FAILED") << " in " << ws.iterations << " iterations, "
-           << ws.solve_seconds << " s";
+      line << "window " << mesh[a] << " - " << mesh[b] << " m from " << (own ? "its own" : "the stitched")
+           << " guess at eps " << o.eps_start << ": " << (ws.converged ? "converged" : "FAILED") << " in "
+           << ws.iterations << " iterations, " << ws.solve_seconds << " s";
       Log(LogKind::kInfo, line.str());
-      if (ws.converged) break;
     }
     if (!ws.converged) return false;
     int keep = b;

@@ -6,6 +6,7 @@
 // Design and evidence: ../shared/notes/lap-solver-prototype.md, docs/lap.md.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "lap/model/constraints.h"
@@ -16,6 +17,11 @@
 #include "lap/solver/solution.h"
 
 namespace ttz::lap {
+
+// A guess on `mesh` from the state `start` at its first node: states and controls at its nodes.
+using WindowGuess =
+    std::function<void(const StateVector<double>& start, const std::vector<double>& mesh,
+                       std::vector<StateVector<double>>* x, std::vector<ControlVector<double>>* u)>;
 
 struct IndirectOptions {
   double eps_start = 1.0;        // first barrier weight [1]: on 300-400 m roads with bends 0.1
@@ -54,7 +60,8 @@ struct IndirectOptions {
   // windowed): solved window by window at eps_start (at retry_eps_start instead when that is set
   // and smaller: the weight at which the windows converged on the TT course, docs/lap.md), each
   // window's start state fixed by the previous window's solution and its end free (a window that
-  // fails is solved again from its guess at ten times the weight and followed down to it), keeping each window but
+  // fails is solved again from `window_guess`, then at ten times the weight and followed down to
+  // it), keeping each window but
   // its last `window_overlap_m` (where its free end pulls the costates to zero); the continuation then
   // starts on the whole road from the stitched states and costates. From the QSS guess the first
   // step's difficulty grows with the road (docs/lap.md "Status"); the prototype's 60 km first step
@@ -64,6 +71,13 @@ struct IndirectOptions {
   // SolveIndirect throws std::invalid_argument.
   double window_m = 0.0;
   double window_overlap_m = 1000.0;
+  // A window's second guess, from its start state on its mesh (states and controls at its nodes,
+  // x[0] the start state), tried when the window fails from the stitched guess (the previous
+  // window's solution over the overlap, the road's guess beyond) and before the heavier weight;
+  // empty: none. lap gives the QSS lap on the window's own racing line from the start state
+  // (QssWindowGuess, lap/qss.h): on the TT course the window at 20-22.5 km failed from the
+  // stitched guess and converges from that one (docs/lap.md "A guess for every window").
+  WindowGuess window_guess;
   // The condition above on window_m and window_overlap_m.
   bool WindowsAreValid() const {
     return window_m <= 0.0 || (window_overlap_m >= 0.0 && window_overlap_m < window_m);

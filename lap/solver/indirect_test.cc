@@ -69,6 +69,21 @@ TEST(IndirectTest, AFailedFirstStepIsRetriedFromTheGuessAtTheRetryWeight) {
   options.window_m = 50.0;
   options.window_overlap_m = 10.0;
   EXPECT_EQ(weights(options), (std::vector<double>{0.1, 1.0, 0.1}));
+  // With a window guess, from that guess (at eps_start) before the heavier weight; it gets the
+  // window's start state and mesh.
+  int calls = 0;
+  options.window_guess = [&](const StateVector<double>& start, const std::vector<double>& mesh,
+                             std::vector<StateVector<double>>* x, std::vector<ControlVector<double>>* u) {
+    ++calls;
+    EXPECT_EQ(start, p.qss.x.front());
+    EXPECT_EQ(mesh.front(), 0.0);
+    EXPECT_GE(mesh.back(), options.window_m);
+    EXPECT_LT(mesh.size(), p.mesh.size());
+    *x = std::vector<StateVector<double>>(p.qss.x.begin(), p.qss.x.begin() + mesh.size());
+    *u = std::vector<ControlVector<double>>(p.qss.u.begin(), p.qss.u.begin() + mesh.size());
+  };
+  EXPECT_EQ(weights(options), (std::vector<double>{0.1, 0.1, 1.0, 0.1}));
+  EXPECT_EQ(calls, 1);
 }
 
 // The first step window by window (IndirectOptions::window_m): windows of 150 m with 50 m of
