@@ -448,8 +448,6 @@ bool SolveFirstStepInWindows(const Vehicle& v, const RoadTrack& road,
   // down to eps_start (docs/lap.md "A price on rolling the bike").
   IndirectOptions heavier = window;
   heavier.eps_start = 10.0 * options.eps_start;
-  window.window_guess = nullptr;
-  heavier.window_guess = nullptr;
   for (int a = 0;;) {
     int b = a;
     while (b + 1 < n && mesh[b] < mesh[a] + options.window_m) ++b;
