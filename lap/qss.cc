@@ -462,7 +462,9 @@ QssLap ComputeQssFrom(const Vehicle& v, const RoadTrack& road, const std::vector
   from.V0 = start[kV];
   from.T0 = start[kT];
   from.e0 = start[kE];
-  QssLap q = ComputeQss(from, road, mesh, ComputeRacingLine(road, mesh, v.border_margin));
+  RacingLineOptions line;
+  line.start_offset_m = start[kN];
+  QssLap q = ComputeQss(from, road, mesh, ComputeRacingLine(road, mesh, v.border_margin, line));
   q.x.front() = start;
   return q;
 }

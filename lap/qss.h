@@ -51,9 +51,9 @@ QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<dou
 QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh,
                   const RacingLine& line);
 
-// The QSS lap on the racing line of `mesh` (ComputeRacingLine with the bike's border margin)
-// from `start` instead of the bike's initial state: its speed, motor temperature and energy
-// start the profile, and x[0] is `start` whole. The guess of a window of the indirect solver's
+// The QSS lap on the racing line of `mesh` (ComputeRacingLine with the bike's border margin,
+// starting at start's offset n) from `start` instead of the bike's initial state: its speed,
+// motor temperature and energy start the profile, and x[0] is `start` whole. The guess of a window of the indirect solver's
 // first step (QssWindowGuess).
 QssLap ComputeQssFrom(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh,
                       const StateVector<double>& start);

@@ -51,6 +51,9 @@ TEST_F(QssPackTest, TheLapFromAStateContinuesTheWholeRoads) {
     EXPECT_NEAR(from.x[i][kE], whole.x[k + i][kE], 1e-3 * v.e0) << i;
     EXPECT_NEAR(from.x[i][kT], whole.x[k + i][kT], 0.05) << i;
   }
+  start[kN] = 1.0;  // a start off the centre line: the racing line keeps it on the straight
+  const QssLap off = ComputeQssFrom(v, road, tail, start);
+  for (int i : {1, 50, static_cast<int>(tail.size()) - 1}) EXPECT_NEAR(off.x[i][kN], 1.0, 1e-6) << i;
 }
 
 // A pack of 0.96 MJ (96 cells of 10 kJ, as heavy as the full pack: only the energy differs) ends

@@ -19,6 +19,9 @@ RacingLine ComputeRacingLine(const RoadTrack& road, const std::vector<double>& m
     const RoadPoint p = road.At(mesh[k]);
     kappa[k] = p.kappa;
     bound[k] = options.width_share * std::max(0.0, 0.5 * p.width - border_margin_m);
+    // The solver starts from the start offset (where the width allows): where the minimum is
+    // not unique, e.g. on a straight, that offset is kept.
+    line.n[k] = k == 0 ? options.start_offset_m : std::clamp(options.start_offset_m, -bound[k], bound[k]);
   }
   if (nodes >= 3) {
     ceres::Problem problem;

@@ -9,11 +9,12 @@
 // line positive, lap/model/state.h) as unknowns, the least-squares problem
 //   minimise  sum_k w_k (kappa_k + n''_k)^2 + sum_k h_k L^2 ((kappa_p,k+1 - kappa_p,k) / h_k)^2,
 //             w_k = (h_{k-1} + h_k) / 2, kappa_p = kappa + n''
-//   subject to |n_k| <= share (width_k / 2 - border margin),  n_0 = 0 (the start state's offset)
+//   subject to |n_k| <= share (width_k / 2 - border margin),  n_0 = the start state's offset
 // with n''_k the second divided difference on the non-uniform mesh and kappa + n'' the path's
 // curvature to first order in n and its slope (kappa right-turn positive, as the model's). Solved
-// by Ceres with the bounds on the unknowns (a convex problem: the solution does not depend on the
-// start).
+// by Ceres with the bounds on the unknowns (a convex problem, solved from n_k = n_0 within the
+// bounds: where its minimum is not unique, as on a straight, where every straight path is as good,
+// that start decides).
 #pragma once
 
 #include <cmath>
@@ -31,6 +32,10 @@ struct RacingLineOptions {
   // swaps a bend's curvature for abrupt changes of curvature, which the roll-rate limit (eq. 39b)
   // makes slower than the bend. Default 30 m.
   double curvature_change_length_m = 30.0;
+  // n_0 [m], the offset of the start state: 0 for a lap (it starts on the centre line), the
+  // previous window's offset for a window of the indirect solver's first step (lap/qss.h
+  // ComputeQssFrom). Not bounded by the width share. Default 0.
+  double start_offset_m = 0.0;
 };
 
 // The line at the mesh nodes.

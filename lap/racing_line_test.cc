@@ -47,6 +47,16 @@ TEST(RacingLineTest, AStraightRoadKeepsTheCentreLine) {
   }
 }
 
+// A line that starts off the centre line (a window's start, RacingLineOptions::start_offset_m)
+// keeps its offset along a straight: any return to the centre line would bend the path.
+TEST(RacingLineTest, AStraightRoadKeepsTheStartOffset) {
+  const RoadTrack road(testing::StraightRoad(300.0));
+  RacingLineOptions options;
+  options.start_offset_m = 1.5;
+  const RacingLine line = ComputeRacingLine(road, UniformMesh(road.Length(), 5.0), 0.5, options);
+  for (size_t k = 0; k < line.n.size(); ++k) EXPECT_NEAR(line.n[k], 1.5, 1e-6) << k;
+}
+
 // A 20 m bend of 90 degrees (radius 40 m, road.h5's left turn) between straights, on a 10 m wide
 // road: the line enters wide, cuts to the inside at the apex and leaves wide, within the usable
 // half width (0.9 x (5 - 0.5) m), and bends less sharply than the road.
