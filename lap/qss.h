@@ -53,8 +53,8 @@ QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<dou
 
 // The QSS lap on the racing line of `mesh` (ComputeRacingLine with the bike's border margin,
 // starting at start's offset n) from `start` instead of the bike's initial state: its speed,
-// motor temperature and energy start the profile, and x[0] is `start` whole. The guess of a window of the indirect solver's
-// first step (QssWindowGuess).
+// motor temperature and energy start the profile, and x[0] is `start` whole. The guess of a
+// window of the indirect solver's first step (QssWindowGuess).
 QssLap ComputeQssFrom(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh,
                       const StateVector<double>& start);
 

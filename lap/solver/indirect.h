@@ -62,12 +62,13 @@ struct IndirectOptions {
   // window's start state fixed by the previous window's solution and its end free (a window that
   // fails is solved again from `window_guess`, then at ten times the weight and followed down to
   // it), keeping each window but its last `window_overlap_m` (where its free end pulls the
-  // costates to zero); the continuation then starts on the whole road from the stitched states and costates. From the QSS guess the first
-  // step's difficulty grows with the road (docs/lap.md "Status"); the prototype's 60 km first step
-  // was solved this way (../shared/notes/lap-solver-prototype.md). The windows' steps come first
-  // in SolveSummary::steps (their lap times those of their windows alone) and their
-  // iterations count in SolveSummary::iterations. 0 <= window_overlap_m < window_m, else
-  // SolveIndirect throws std::invalid_argument.
+  // costates to zero); the continuation then starts on the whole road from the stitched states
+  // and costates. From the QSS guess the first step's difficulty grows with the road (docs/lap.md
+  // "Status"); the prototype's 60 km first step was solved this way
+  // (../shared/notes/lap-solver-prototype.md). The windows' steps come first in
+  // SolveSummary::steps (their lap times those of their windows alone) and their iterations
+  // count in SolveSummary::iterations. 0 <= window_overlap_m < window_m, else SolveIndirect
+  // throws std::invalid_argument.
   double window_m = 0.0;
   double window_overlap_m = 1000.0;
   // A window's second guess, from its start state on its mesh (states and controls at its nodes,
