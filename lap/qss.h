@@ -13,7 +13,7 @@
 #include "lap/model/vehicle.h"
 #include "lap/racing_line.h"
 #include "lap/road_track.h"
-#include "lap/solver/indirect.h"
+#include "lap/solver/solution.h"
 
 namespace ttz::lap {
 

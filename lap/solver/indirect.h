@@ -6,7 +6,6 @@
 // Design and evidence: ../shared/notes/lap-solver-prototype.md, docs/lap.md.
 #pragma once
 
-#include <functional>
 #include <vector>
 
 #include "lap/model/constraints.h"
@@ -17,11 +16,6 @@
 #include "lap/solver/solution.h"
 
 namespace ttz::lap {
-
-// A guess on `mesh` from the state `start` at its first node: states and controls at its nodes.
-using WindowGuess =
-    std::function<void(const StateVector<double>& start, const std::vector<double>& mesh,
-                       std::vector<StateVector<double>>* x, std::vector<ControlVector<double>>* u)>;
 
 struct IndirectOptions {
   double eps_start = 1.0;        // first barrier weight [1]: on 300-400 m roads with bends 0.1

@@ -3,6 +3,7 @@
 // from the solver's own checks of its answer, never from the optimiser's word alone.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,12 @@ struct SolverGuess {
   std::vector<StateVector<double>> x, lambda;
   std::vector<ControlVector<double>> u, u_interval;
 };
+
+// A guess of a window of the indirect solver's first step (IndirectOptions::window_guess) on
+// `mesh` from the state `start` at its first node: states and controls at its nodes.
+using WindowGuess =
+    std::function<void(const StateVector<double>& start, const std::vector<double>& mesh,
+                       std::vector<StateVector<double>>* x, std::vector<ControlVector<double>>* u)>;
 
 // The controls at the nodes from the intervals' (both solvers hold one control per interval): a
 // node reports the mean of its two neighbouring intervals' controls, an end node its one
