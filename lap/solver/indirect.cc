@@ -7,6 +7,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 #include <Eigen/Sparse>
 
@@ -88,6 +89,29 @@ class CurveSystem {
       for (int i = 0; i < kW; ++i) tr_->W(k)[i] = v[c++];
     for (int i = 0; i < kNumStates; ++i) tr_->W(N)[i] = v[c++];
   }
+  // Where a direction `d` of the unknowns (a tangent at a turning point: the direction in which
+  // the solution changes while eps does not) moves the states (scaled): the node and state of its
+  // largest part, and the stretch of road between the first and the last node of the parts
+  // >= 10 % of it.
+  std::string DescribeStateDirection(const Eigen::VectorXd& d) const {
+    const int N = tr_->NumNodes() - 1;
+    auto part = [&](int k, int i) { return std::abs(d[(kW - kNumStates) + (k - 1) * kW + i]); };
+    int k_max = 1, i_max = 0;
+    for (int k = 1; k < N; ++k)
+      for (int i = 0; i < kNumStates; ++i)
+        if (part(k, i) > part(k_max, i_max)) k_max = k, i_max = i;
+    int first = k_max, last = k_max;
+    for (int k = 1; k < N; ++k)
+      for (int i = 0; i < kNumStates; ++i)
+        if (part(k, i) >= 0.1 * part(k_max, i_max)) {
+          first = std::min(first, k);
+          last = std::max(last, k);
+        }
+    std::ostringstream o;
+    o << "the solution moves most in " << kStateNames[i_max] << " at " << tr_->s[k_max]
+      << " m, and by >= 10 % of that on " << tr_->s[first] << "-" << tr_->s[last] << " m";
+    return o.str();
+  }
   // F at the current unknowns and eps; with J: also dF/dv and dF/dp, p = log(eps) (by a forward
   // difference).
   bool Evaluate(double eps, Eigen::VectorXd* F, Eigen::SparseMatrix<double>* J, Eigen::VectorXd* Fp) {
@@ -142,9 +166,10 @@ bool NewtonAtFixedEps(CurveSystem* sys, Transcription* tr, double eps, double to
 // [F(y); t^T (y - y_pred)] = 0 (max |F| <= tol), the step grown after an easy corrector and halved
 // after a failed one; the last step lands on eps_end and converges there to final_tol. It stops at
 // a turning point of the curve (eps starts to grow): the points below it in eps are on another
-// branch. Every point is appended to `steps`; true when eps_end was reached.
+// branch; `turning_point` then says where on the road the solution turns. Every point is
+// appended to `steps`; true when eps_end was reached.
 bool TraceCurve(const IndirectOptions& options, Transcription* tr, ceres::Problem* problem,
-                double eps0, std::vector<ContinuationStep>* steps) {
+                double eps0, std::vector<ContinuationStep>* steps, std::string* turning_point) {
   CurveSystem sys(tr, problem);
   const int n = sys.size();
   const double p_end = std::log(options.eps_end), tol = options.path_tolerance;
@@ -206,7 +231,8 @@ bool TraceCurve(const IndirectOptions& options, Transcription* tr, ceres::Proble
       }
     }
     ContinuationStep step;
-    step.eps = last ? options.eps_end : std::exp(z[n]);
+    // a failed corrector reports the predictor's eps: its own last iterate may be far off the curve
+    step.eps = last ? options.eps_end : std::exp(ok ? z[n] : yp[n]);
     step.iterations = its;
     step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     step.converged = ok;
@@ -234,8 +260,9 @@ bool TraceCurve(const IndirectOptions& options, Transcription* tr, ceres::Proble
     Log(LogKind::kInfo, o.str());
     if (last) return true;
     if (tn[n] >= 0.0) {  // a turning point between y and z: stop at z
+      *turning_point = sys.DescribeStateDirection(tn.head(n));
       Log(LogKind::kInfo, "arclength: turning point of the solution curve at eps " +
-                              std::to_string(step.eps));
+                              std::to_string(step.eps) + ": " + *turning_point);
       return false;
     }
     y = z;
@@ -253,6 +280,7 @@ struct Continuation {
   std::vector<ContinuationStep> good;  // converged steps
   double max_all = HUGE_VAL, max_state = HUGE_VAL;  // residual levels of the last converged step
   double failed_eps = 0.0;             // > 0 when the continuation gave up there
+  std::string turning_point;           // where the solution turned, when it stopped at a turn
 };
 
 Continuation RunContinuation(const IndirectOptions& options, Transcription* tr,
@@ -308,7 +336,7 @@ Continuation RunContinuation(const IndirectOptions& options, Transcription* tr,
       if (last_step) break;
       if (options.arclength) {  // the rest of the way along the curve (TraceCurve)
         std::vector<ContinuationStep> curve;
-        const bool reached = TraceCurve(options, tr, problem, eps, &curve);
+        const bool reached = TraceCurve(options, tr, problem, eps, &curve, &c.turning_point);
         for (const ContinuationStep& s : curve) {
           summary->iterations += s.iterations;
           summary->steps.push_back(s);
@@ -404,7 +432,11 @@ std::string Verdict(const IndirectOptions& options, const Continuation& c,
   const double worst = *std::max_element(summary.max_violation.begin(),
                                          summary.max_violation.end());
   std::ostringstream why;
-  if (c.failed_eps > 0.0) why << "continuation failed at eps " << c.failed_eps << "; ";
+  if (c.failed_eps > 0.0) {
+    why << "continuation failed at eps " << c.failed_eps;
+    if (!c.turning_point.empty()) why << " (a turning point: " << c.turning_point << ")";
+    why << "; ";
+  }
   if (!(c.max_all <= 10.0 * options.residual_tolerance)) why << "residual " << c.max_all << "; ";
   if (!(worst <= options.constraint_tolerance)) why << "constraint violated by " << worst << "; ";
   if (summary.control_failures > 0)
