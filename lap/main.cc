@@ -198,7 +198,8 @@ LapSolverOptions SolverOptionsOf(const Arguments& a, const IpoptOptions& ipopt, 
   return {ipopt.max_iterations, ipopt.mu_globalization, ipopt.mu_strategy, ipopt.mu_init, 0.0, 0.0};
 }
 
-// The longest roads on which the indirect solver has converged are 5 km (docs/lap.md "Status").
+// Beyond 5 km the indirect solver has converged only on the TT course, with windows and a price on
+// rolling of 0.1 (docs/lap.md "Status").
 constexpr double kIndirectLongestSolvedRoadM = 5100.0;
 
 // The one place that dispatches on --solver.
@@ -215,8 +216,10 @@ LapSolution Solve(const Arguments& a, const Vehicle& v, const RoadTrack& track, 
   ttz::Log(ttz::LogKind::kInfo, o.str());
   if (a.solver == "ipopt") return SolveDirectIpopt(v, track, mesh, guess, ipopt, summary);
   if (track.Length() > kIndirectLongestSolvedRoadM)  // told now, not after an hour's failed solve
-    ttz::Log(ttz::LogKind::kWarning, a.road + ": the indirect solver has not yet converged on a road longer than "
-                                         "5 km (docs/lap.md \"Status\"); --solver ipopt has");
+    ttz::Log(ttz::LogKind::kWarning,
+             a.road + ": on a road longer than 5 km the indirect solver has converged only with --window 3000 "
+                      "--window-overlap 500 --max-iterations 600 and limits.roll_rate_weight_s2_per_rad2 = 0.1 "
+                      "(docs/lap.md \"Status\"); --solver ipopt needs neither");
   return SolveIndirect(v, track, mesh, guess.x, guess.lambda, guess.u, options, summary);
 }
 
@@ -266,7 +269,7 @@ int Run(const Arguments& a) {
     // The indirect solver does not converge yet on the whole TT course nor on every 5 km road
     // (docs/lap.md "Status"); the Ipopt oracle does, so the user is told.
     const std::string hint =
-        a.solver == "indirect" ? " (on a long road, --solver ipopt converges where this solver does not yet)" : "";
+        a.solver == "indirect" ? " (on a long road, --solver ipopt converges where this solver may not)" : "";
     ttz::Log(ttz::LogKind::kError, "the solve did not converge (" + SolveMessage(summary) + "); " + a.output +
                                        " is written with converged = false" + hint);
     return ttz::kExitNotConverged;
