@@ -198,9 +198,10 @@ LapSolverOptions SolverOptionsOf(const Arguments& a, const IpoptOptions& ipopt, 
   return {ipopt.max_iterations, ipopt.mu_globalization, ipopt.mu_strategy, ipopt.mu_init, 0.0, 0.0};
 }
 
-// Beyond 5 km the indirect solver has converged only on the TT course, with windows and a price on
-// rolling of 0.1 (docs/lap.md "Status").
-constexpr double kIndirectLongestSolvedRoadM = 5100.0;
+// The longest roads on which the indirect solver converges with its default settings are 5 km;
+// beyond, it has converged only on the TT course, with windows and a price on rolling of 0.1
+// (docs/lap.md "Status").
+constexpr double kIndirectLongestPlainRoadM = 5100.0;
 
 // The one place that dispatches on --solver.
 LapSolution Solve(const Arguments& a, const Vehicle& v, const RoadTrack& track, const std::vector<double>& mesh,
@@ -215,7 +216,7 @@ LapSolution Solve(const Arguments& a, const Vehicle& v, const RoadTrack& track, 
   const SolverGuess& guess = start.guess;
   ttz::Log(ttz::LogKind::kInfo, o.str());
   if (a.solver == "ipopt") return SolveDirectIpopt(v, track, mesh, guess, ipopt, summary);
-  if (track.Length() > kIndirectLongestSolvedRoadM)  // told now, not after an hour's failed solve
+  if (track.Length() > kIndirectLongestPlainRoadM)  // told now, not after an hour's failed solve
     ttz::Log(ttz::LogKind::kWarning,
              a.road + ": on a road longer than 5 km the indirect solver has converged only with --window 3000 "
                       "--window-overlap 500 --max-iterations 600 and limits.roll_rate_weight_s2_per_rad2 = 0.1 "
@@ -266,8 +267,8 @@ int Run(const Arguments& a) {
                        : LapReportText(sol, summary, channels.figures, resim))
             << std::flush;
   if (!summary.converged) {
-    // The indirect solver does not converge yet on the whole TT course nor on every 5 km road
-    // (docs/lap.md "Status"); the Ipopt oracle does, so the user is told.
+    // The indirect solver does not converge on every 5 km road, nor on the whole TT course in the
+    // paper's model (docs/lap.md "Status"); the Ipopt oracle does, so the user is told.
     const std::string hint =
         a.solver == "indirect" ? " (on a long road, --solver ipopt converges where this solver may not)" : "";
     ttz::Log(ttz::LogKind::kError, "the solve did not converge (" + SolveMessage(summary) + "); " + a.output +
