@@ -71,23 +71,15 @@ class CurveSystem {
   CurveSystem(Transcription* tr, ceres::Problem* problem)
       : tr_(tr), problem_(problem), n_((tr->NumNodes() - 1) * kW) {}
   int size() const { return n_; }
+  // Position in v of unknown i of node k (node 0 contributes its costates, node N its states).
+  static int Index(int k, int i) { return (kW - kNumStates) + (k - 1) * kW + i; }
   Eigen::VectorXd Get() const {
     Eigen::VectorXd v(n_);
-    const int N = tr_->NumNodes() - 1;
-    int c = 0;
-    for (int i = kNumStates; i < kW; ++i) v[c++] = tr_->W(0)[i];
-    for (int k = 1; k < N; ++k)
-      for (int i = 0; i < kW; ++i) v[c++] = tr_->W(k)[i];
-    for (int i = 0; i < kNumStates; ++i) v[c++] = tr_->W(N)[i];
+    ForEachUnknown([&](int k, int i) { v[Index(k, i)] = tr_->W(k)[i]; });
     return v;
   }
   void Set(const Eigen::VectorXd& v) {
-    const int N = tr_->NumNodes() - 1;
-    int c = 0;
-    for (int i = kNumStates; i < kW; ++i) tr_->W(0)[i] = v[c++];
-    for (int k = 1; k < N; ++k)
-      for (int i = 0; i < kW; ++i) tr_->W(k)[i] = v[c++];
-    for (int i = 0; i < kNumStates; ++i) tr_->W(N)[i] = v[c++];
+    ForEachUnknown([&](int k, int i) { tr_->W(k)[i] = v[Index(k, i)]; });
   }
   // Where a direction `d` of the unknowns (a tangent at a turning point: the direction in which
   // the solution changes while eps does not) moves the states (scaled): the node and state of its
@@ -95,7 +87,7 @@ class CurveSystem {
   // >= 10 % of it.
   std::string DescribeStateDirection(const Eigen::VectorXd& d) const {
     const int N = tr_->NumNodes() - 1;
-    auto part = [&](int k, int i) { return std::abs(d[(kW - kNumStates) + (k - 1) * kW + i]); };
+    auto part = [&](int k, int i) { return std::abs(d[Index(k, i)]); };
     int k_max = 1, i_max = 0;
     for (int k = 1; k < N; ++k)
       for (int i = 0; i < kNumStates; ++i)
@@ -138,6 +130,13 @@ class CurveSystem {
   }
 
  private:
+  template <typename Visit>
+  void ForEachUnknown(Visit visit) const {
+    const int N = tr_->NumNodes() - 1;
+    for (int k = 0; k <= N; ++k)
+      for (int i = k == 0 ? kNumStates : 0; i < (k == N ? kNumStates : kW); ++i) visit(k, i);
+  }
+
   Transcription* tr_;
   ceres::Problem* problem_;
   int n_;
