@@ -15,6 +15,7 @@
 #include "lap/solver/node.h"
 #include "lap/solver/sparse_lu.h"
 #include "lap/solver/transcription.h"
+#include "lap/solver/window_stitch.h"
 
 namespace ttz::lap {
 namespace {
@@ -479,6 +480,7 @@ bool SolveFirstStepInWindows(const Vehicle& v, const RoadTrack& road,
   // down to eps_start (docs/lap.md "A price on rolling the bike").
   IndirectOptions heavier = window;
   heavier.eps_start = 10.0 * options.eps_start;
+  std::vector<WindowJunction> junctions;
   for (int a = 0;;) {
     int b = a;
     while (b + 1 < n && mesh[b] < mesh[a] + options.window_m) ++b;
@@ -507,6 +509,11 @@ bool SolveFirstStepInWindows(const Vehicle& v, const RoadTrack& road,
       Log(LogKind::kInfo, line.str());
     }
     if (!ws.converged) return false;
+    if (a > 0) {  // the costates' jump where this window starts (window_stitch.h)
+      WindowJunction j{a, {}};
+      for (int i = 0; i < kNumStates; ++i) j.jump[i] = sol.lambda.front()[i] - (*lambda_guess)[a][i];
+      junctions.push_back(j);
+    }
     int keep = b;
     while (!last && keep > a + 1 && mesh[keep] > mesh[b] - options.window_overlap_m) --keep;
     // The whole window, overlap included: the next window solves the overlap again from this
@@ -517,7 +524,10 @@ bool SolveFirstStepInWindows(const Vehicle& v, const RoadTrack& road,
       (*lambda_guess)[k] = sol.lambda[k - a];
       (*u_guess)[k] = sol.u[k - a];
     }
-    if (last) return true;
+    if (last) {
+      CarrySlowCostatesUpstream(junctions, lambda_guess);
+      return true;
+    }
     a = keep;
   }
 }

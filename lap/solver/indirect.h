@@ -57,7 +57,8 @@ struct IndirectOptions {
   // fails is solved again from `window_guess`, then at ten times the weight and followed down to
   // it), keeping each window but its last `window_overlap_m` (where its free end pulls the
   // costates to zero); the continuation then starts on the whole road from the stitched states
-  // and costates. From the QSS guess the first step's difficulty grows with the road (docs/lap.md
+  // and costates, lambda_e and lambda_T carried across the junctions (window_stitch.h). From the
+  // QSS guess the first step's difficulty grows with the road (docs/lap.md
   // "Status"); the prototype's 60 km first step was solved this way
   // (../shared/notes/lap-solver-prototype.md). The windows' steps come first in
   // SolveSummary::steps (their lap times those of their windows alone) and their iterations

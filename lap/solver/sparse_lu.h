@@ -1,6 +1,8 @@
 // The sparse linear solves of the indirect solver's arclength continuation (indirect.cc): a square
-// system J x = b, and J bordered by one row and one column, both by UMFPACK's sparse LU
-// (SuiteSparse). Not the normal equations: J's condition is not squared.
+// system J x = b, and J bordered by one row and one column, by sparse LU (not the normal equations:
+// J's condition is not squared). J is expected banded in its own order, as the transcription's is
+// in the order of the nodes: its LU (Eigen's SparseLU) keeps that order; the bordered matrix's
+// (UMFPACK, SuiteSparse) orders for fill.
 #pragma once
 
 #include <Eigen/Core>
