@@ -5,7 +5,7 @@
 // CPU time (all threads) per iteration and node, peak memory and the re-simulation check's
 // lap-time and largest state difference (not a test). KEY=VALUE arguments after EPS_START override
 // bike.yaml values as `lap --set` does; `indirect.window_m=M`, `indirect.window_overlap_m=M` and
-// `indirect.max_iterations=N` set the indirect solver's options of those names,
+// `indirect.max_iterations=N`, `indirect.path_tolerance=X` set the indirect solver's options of those names,
 // `ipopt.NAME=VALUE` Ipopt's option NAME (e.g. `ipopt.print_level=5`). CPU time per iteration and node is the figure to compare across
 // meshes: other processes sharing the machine do not count in it.
 #include <sys/resource.h>
@@ -73,8 +73,9 @@ struct Settings {
   std::optional<bool> racing_line;  // the guess (`lap --guess`): unset, each solver's default
 };
 
-// One KEY=VALUE argument: `indirect.window_m`, `indirect.window_overlap_m` and
-// `indirect.max_iterations` set the indirect solver's IndirectOptions of those names,
+// One KEY=VALUE argument: `indirect.window_m`, `indirect.window_overlap_m`,
+// `indirect.max_iterations` and `indirect.path_tolerance` set the indirect solver's IndirectOptions
+// of those names,
 // `ipopt.NAME` Ipopt's option NAME (IpoptOptions::extra, checked when Ipopt starts),
 // `guess=centre-line` or `guess=racing-line` the initial guess (`lap --guess`), any other key
 // overrides bike.yaml.
@@ -85,9 +86,10 @@ void ParseSetting(const std::string& a, Settings* settings) {
   if (key == "indirect.window_m") indirect->window_m = Number(value, key);
   else if (key == "indirect.window_overlap_m") indirect->window_overlap_m = Number(value, key);
   else if (key == "indirect.max_iterations") indirect->max_iterations = static_cast<int>(Number(value, key));
+  else if (key == "indirect.path_tolerance") indirect->path_tolerance = Number(value, key);
   else if (key.rfind("indirect.", 0) == 0)
     throw std::invalid_argument(key + ": not an option of lap_bench (indirect.window_m, indirect.window_overlap_m, "
-                                      "indirect.max_iterations)");
+                                      "indirect.max_iterations, indirect.path_tolerance)");
   else if (key.rfind("ipopt.", 0) == 0 && eq != std::string::npos) settings->ipopt.extra.emplace_back(key.substr(6), value);
   else if (key == "guess" && (value == "centre-line" || value == "racing-line")) settings->racing_line = value == "racing-line";
   else if (key == "guess") throw std::invalid_argument("guess: '" + value + "', expected centre-line or racing-line");
