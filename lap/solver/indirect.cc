@@ -519,9 +519,12 @@ bool SolveFirstStepInWindows(const Vehicle& v, const RoadTrack& road,
     // The whole window, overlap included: the next window solves the overlap again from this
     // window's states and controls there, which hold the start state it gets at mesh[keep],
     // rather than from the guess.
+    // At its first node a window has no barrier (its state is fixed there), so its costates are
+    // the right limits where the whole road's unknowns are the means of both limits
+    // (transcription.h): the previous window's costates, for which the node is an inner one, stay.
     for (int k = a; k <= b; ++k) {
       (*x_guess)[k] = sol.x[k - a];
-      (*lambda_guess)[k] = sol.lambda[k - a];
+      if (k > a || a == 0) (*lambda_guess)[k] = sol.lambda[k - a];
       (*u_guess)[k] = sol.u[k - a];
     }
     if (last) {

@@ -9,12 +9,13 @@ namespace ttz::lap {
 namespace {
 
 TEST(WindowStitchTest, ChargeAndTemperatureCostatesBecomeContinuousAndTheOthersStay) {
-  // nodes 0-3 from window 0, 4-6 from window 1, 7-9 from window 2
+  // windows 1 and 2 start at nodes 4 and 7, which keep the previous window's costates: nodes 0-4
+  // from window 0, 5-7 from window 1, 8-9 from window 2
   const int starts[3] = {0, 4, 7};
   const double level[3] = {1.0, 5.0, 2.0};  // each window's costates, all of them
   std::vector<StateVector<double>> lambda(10);
   for (int w = 0; w < 3; ++w)
-    for (int k = starts[w]; k < (w == 2 ? 10 : starts[w + 1]); ++k) lambda[k].fill(level[w]);
+    for (int k = w == 0 ? 0 : starts[w] + 1; k <= (w == 2 ? 9 : starts[w + 1]); ++k) lambda[k].fill(level[w]);
   std::vector<WindowJunction> junctions;
   for (int w = 1; w < 3; ++w) {
     WindowJunction j{starts[w], {}};
