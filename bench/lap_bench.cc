@@ -4,8 +4,9 @@
 // from 0 to LENGTH_M, printing lap time, convergence, iterations, wall time, time per iteration,
 // CPU time (all threads) per iteration and node, peak memory and the re-simulation check's
 // lap-time and largest state difference (not a test). KEY=VALUE arguments after EPS_START override
-// bike.yaml values as `lap --set` does; `indirect.window_m=M`, `indirect.window_overlap_m=M` and
-// `indirect.max_iterations=N`, `indirect.path_tolerance=X` set the indirect solver's options of those names,
+// bike.yaml values as `lap --set` does; `indirect.window_m=M`, `indirect.window_overlap_m=M`,
+// `indirect.max_iterations=N` and `indirect.path_tolerance=X` set the indirect solver's options of
+// those names,
 // `ipopt.NAME=VALUE` Ipopt's option NAME (e.g. `ipopt.print_level=5`). CPU time per iteration and node is the figure to compare across
 // meshes: other processes sharing the machine do not count in it.
 #include <sys/resource.h>

@@ -58,9 +58,8 @@ struct IndirectOptions {
   // it), keeping each window but its last `window_overlap_m` (where its free end pulls the
   // costates to zero); the continuation then starts on the whole road from the stitched states
   // and costates (at a junction the previous window's costates, lambda_e and lambda_T carried
-  // across it: window_stitch.h). From the
-  // QSS guess the first step's difficulty grows with the road (docs/lap.md
-  // "Status"); the prototype's 60 km first step was solved this way
+  // across it: window_stitch.h). From the QSS guess the first step's difficulty grows with the
+  // road (docs/lap.md "Status"); the prototype's 60 km first step was solved this way
   // (../shared/notes/lap-solver-prototype.md). The windows' steps come first in
   // SolveSummary::steps (their lap times those of their windows alone) and their iterations
   // count in SolveSummary::iterations. 0 <= window_overlap_m < window_m, else SolveIndirect
