@@ -52,8 +52,8 @@ struct IndirectOptions {
   double arclength_dlogeps = 0.36;  // first step's change of log eps (~ log of eps_factor)
   // Newton iterations of an arclength step's corrector before the step is halved. On the first
   // 10 km of the TT course (20 m, at most 0.5 s) 12 instead of 8 took the steps from 39 (10
-  // retried) to 29 (7), 27.9 to 24.5 s; on the whole course with 12, 5 of the 10 retried steps
-  // still failed after all 12 and one converged in 10 (docs/lap.md, session 33): no gain shown.
+  // retried) to 29 (7), 27.9 to 24.5 s; on the whole course it took 69 steps (10 retried), 337
+  // iterations, 384 s against 70, 327, 369 s with 8 (docs/lap.md, session 33).
   int corrector_iterations = 8;
   // The first step from a guess without costates, on a road longer than `window_m` [m] (0: never
   // windowed): solved window by window at eps_start (at retry_eps_start instead when that is set
