@@ -15,7 +15,8 @@ TEST(WindowStitchTest, ChargeAndTemperatureCostatesBecomeContinuousAndTheOthersS
   const double level[3] = {1.0, 5.0, 2.0};  // each window's costates, all of them
   std::vector<StateVector<double>> lambda(10);
   for (int w = 0; w < 3; ++w)
-    for (int k = w == 0 ? 0 : starts[w] + 1; k <= (w == 2 ? 9 : starts[w + 1]); ++k) lambda[k].fill(level[w]);
+    for (int k = w == 0 ? 0 : starts[w] + 1; k <= (w == 2 ? 9 : starts[w + 1]); ++k)
+      lambda[k].fill(level[w]);
   std::vector<WindowJunction> junctions;
   for (int w = 1; w < 3; ++w) {
     WindowJunction j{starts[w], {}};
@@ -27,7 +28,8 @@ TEST(WindowStitchTest, ChargeAndTemperatureCostatesBecomeContinuousAndTheOthersS
   for (int k = 0; k < 10; ++k)
     for (int i = 0; i < kNumStates; ++i) {
       const bool slow = i == kE || i == kT;
-      EXPECT_DOUBLE_EQ(carried[k][i], slow ? level[2] : lambda[k][i]) << "node " << k << " costate " << i;
+      EXPECT_DOUBLE_EQ(carried[k][i], slow ? level[2] : lambda[k][i])
+          << "node " << k << " costate " << i;
     }
 }
 
