@@ -13,7 +13,7 @@
 
 #include "common/log.h"
 #include "lap/solver/node.h"
-#include "lap/solver/sparse_lu.h"
+#include "lap/solver/solution_curve.h"
 #include "lap/solver/transcription.h"
 #include "lap/solver/window_stitch.h"
 
@@ -47,9 +47,6 @@ class AcceptControls : public ceres::IterationCallback {
   Transcription* tr_;
 };
 
-// The barrier weight eps with its relaxation delta = min(1e-3, 0.1 eps) (lap-solver notes).
-BarrierWeight WeightFor(double eps) { return {eps, std::min(1e-3, 0.1 * eps)}; }
-
 ceres::Solver::Options CeresOptions(const IndirectOptions& options) {
   ceres::Solver::Options so;
   so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
@@ -65,212 +62,89 @@ ceres::Solver::Options CeresOptions(const IndirectOptions& options) {
   return so;
 }
 
-// The square system F(v, p) = 0 of the free unknowns v (tangent-space order of Ceres: costates of
-// node 0, then every unknown of nodes 1..N-1, then the states of node N) at p = log(eps).
-class CurveSystem {
- public:
-  CurveSystem(Transcription* tr, ceres::Problem* problem)
-      : tr_(tr), problem_(problem), n_((tr->NumNodes() - 1) * kW) {}
-  int size() const { return n_; }
-  // Position in v of unknown i of node k (node 0 contributes its costates, node N its states).
-  static int Index(int k, int i) { return (kW - kNumStates) + (k - 1) * kW + i; }
-  Eigen::VectorXd Get() const {
-    Eigen::VectorXd v(n_);
-    ForEachUnknown([&](int k, int i) { v[Index(k, i)] = tr_->W(k)[i]; });
-    return v;
-  }
-  void Set(const Eigen::VectorXd& v) {
-    ForEachUnknown([&](int k, int i) { tr_->W(k)[i] = v[Index(k, i)]; });
-  }
-  // Where a direction `d` of the unknowns (a tangent at a turning point: the direction in which
-  // the solution changes while eps does not) moves the states (scaled): the node and state of its
-  // largest part, and the stretch of road between the first and the last node of the parts
-  // >= 10 % of it.
-  std::string DescribeStateDirection(const Eigen::VectorXd& d) const {
-    const int N = tr_->NumNodes() - 1;
-    auto part = [&](int k, int i) { return std::abs(d[Index(k, i)]); };
-    int k_max = 1, i_max = 0;
-    for (int k = 1; k < N; ++k)
-      for (int i = 0; i < kNumStates; ++i)
-        if (part(k, i) > part(k_max, i_max)) k_max = k, i_max = i;
-    int first = k_max, last = k_max;
-    for (int k = 1; k < N; ++k)
-      for (int i = 0; i < kNumStates; ++i)
-        if (part(k, i) >= 0.1 * part(k_max, i_max)) {
-          first = std::min(first, k);
-          last = std::max(last, k);
-        }
-    std::ostringstream o;
-    o << "the solution moves most in " << kStateNames[i_max] << " at " << tr_->s[k_max]
-      << " m, and by >= 10 % of that on " << tr_->s[first] << "-" << tr_->s[last] << " m";
-    return o.str();
-  }
-  // F at the current unknowns and eps; with J: also dF/dv and dF/dp, p = log(eps) (by a forward
-  // difference).
-  bool Evaluate(double eps, Eigen::VectorXd* F, Eigen::SparseMatrix<double>* J, Eigen::VectorXd* Fp) {
-    ceres::Problem::EvaluateOptions eo;
-    std::vector<double> r;
-    ceres::CRSMatrix crs;
-    tr_->weight = WeightFor(eps);
-    if (!problem_->Evaluate(eo, nullptr, &r, nullptr, J != nullptr ? &crs : nullptr)) return false;
-    *F = Eigen::Map<Eigen::VectorXd>(r.data(), static_cast<Eigen::Index>(r.size()));
-    if (!F->allFinite()) return false;
-    if (J == nullptr) return true;
-    *J = Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor>>(
-        crs.num_rows, crs.num_cols, static_cast<Eigen::Index>(crs.values.size()), crs.rows.data(),
-        crs.cols.data(), crs.values.data());
-    J->makeCompressed();
-    constexpr double hp = 1e-6;
-    tr_->weight = WeightFor(eps * std::exp(hp));
-    std::vector<double> r1;
-    const bool ok = problem_->Evaluate(eo, nullptr, &r1, nullptr, nullptr);
-    tr_->weight = WeightFor(eps);
-    if (!ok) return false;
-    *Fp = (Eigen::Map<Eigen::VectorXd>(r1.data(), static_cast<Eigen::Index>(r1.size())) - *F) / hp;
-    return Fp->allFinite();
-  }
-
- private:
-  template <typename Visit>
-  void ForEachUnknown(Visit visit) const {
-    const int N = tr_->NumNodes() - 1;
-    for (int k = 0; k <= N; ++k)
-      for (int i = k == 0 ? kNumStates : 0; i < (k == N ? kNumStates : kW); ++i) visit(k, i);
-  }
-
-  Transcription* tr_;
-  ceres::Problem* problem_;
-  int n_;
-};
-
-// Newton with sparse LU at fixed eps from the current unknowns; true when max |F| <= tol.
-bool NewtonAtFixedEps(CurveSystem* sys, Transcription* tr, double eps, double tol, int max_its,
-                      double* max_residual, int* its) {
-  Eigen::VectorXd v = sys->Get(), F, Fp;
-  Eigen::SparseMatrix<double> J;
-  for (*its = 0;; ++*its) {
-    sys->Set(v);
-    if (!sys->Evaluate(eps, &F, *its < max_its ? &J : nullptr, &Fp)) return false;
-    *max_residual = F.lpNorm<Eigen::Infinity>();
-    if (*max_residual <= tol) return true;
-    if (*its == max_its) return false;
-    Eigen::VectorXd dv;
-    if (!SolveSquare(J, F, &dv)) return false;
-    v -= dv;
-    tr->KeepControlsAsStarts();
-  }
-}
-
-// Follows the solution curve y = (v, log eps) from the converged point in `tr` at eps0 down to
-// eps_end by pseudo-arclength steps: predictor along the unit tangent, Newton corrector on
-// [F(y); t^T (y - y_pred)] = 0 (max |F| <= tol), the step grown after an easy corrector and halved
-// after a failed one; the last step lands on eps_end and converges there to final_tol. It stops at
-// a turning point of the curve (eps starts to grow): the points below it in eps are on another
-// branch; `turning_point` then says where on the road the solution turns. Every point is
-// appended to `steps`; true when eps_end was reached.
+// Follows the barrier continuation's solution curve (BarrierPath) from the converged point in `tr`
+// at eps0 down to eps_end (FollowPath); every point is appended to `steps` with its lap time. At a
+// turning point of the curve (eps starts to grow: the points below it in eps are on another
+// branch) `turning_point` says where on the road the solution turns. True when eps_end was
+// reached.
 bool TraceCurve(const IndirectOptions& options, Transcription* tr, ceres::Problem* problem,
                 double eps0, std::vector<ContinuationStep>* steps, std::string* turning_point) {
   CurveSystem sys(tr, problem);
-  const int n = sys.size();
-  const double p_end = std::log(options.eps_end), tol = options.path_tolerance;
-  Eigen::VectorXd F, Fp, y(n + 1), t(n + 1);
-  Eigen::SparseMatrix<double> J;
-  y.head(n) = sys.Get();
-  y[n] = std::log(eps0);
-  if (!sys.Evaluate(eps0, &F, &J, &Fp)) return false;
-  {  // the tangent towards smaller eps: J dv/dp = -F_p
-    Eigen::VectorXd dv_dp;
-    if (!SolveSquare(J, -Fp, &dv_dp)) return false;
-    t.head(n) = -dv_dp;
-    t[n] = -1.0;
-    t.normalize();
-  }
-  double ds = options.arclength_dlogeps / std::abs(t[n]);
-  std::vector<NodeData> mids_y = tr->mids;
-  for (int attempt = 0; attempt < 400; ++attempt) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const bool last = y[n] + ds * t[n] <= p_end;
-    const double dsi = last ? (p_end - y[n]) / t[n] : ds;
-    const Eigen::VectorXd yp = y + dsi * t;
-    Eigen::VectorXd z = yp, tn;
-    bool ok = false;
-    int its = 0;
-    double max_residual = HUGE_VAL;
-    if (last) {
-      sys.Set(yp.head(n));
-      ok = NewtonAtFixedEps(&sys, tr, options.eps_end, 10.0 * options.residual_tolerance, 12, &max_residual,
-                            &its);
-      z.head(n) = sys.Get();
-      z[n] = p_end;
-    } else {
-      for (its = 0; its <= options.corrector_iterations; ++its) {
-        sys.Set(z.head(n));
-        if (!sys.Evaluate(std::exp(z[n]), &F, &J, &Fp)) break;
-        max_residual = F.lpNorm<Eigen::Infinity>();
-        const double arc = t.dot(z - yp);
-        if (max_residual <= tol && std::abs(arc) <= 1e-9 * (1.0 + dsi)) {
-          ok = true;
-          break;
-        }
-        if (its == options.corrector_iterations) break;
-        Eigen::VectorXd b(n + 1), dz;
-        b.head(n) = -F;
-        b[n] = -arc;
-        if (!SolveBordered(J, Fp, t, b, &dz)) break;
-        z += dz;
-        tr->KeepControlsAsStarts();
-      }
-      if (ok) {  // the new tangent: [J Fp; t^T] t_new = [0; 1], oriented along the old one
-        Eigen::VectorXd b = Eigen::VectorXd::Zero(n + 1);
-        b[n] = 1.0;
-        ok = SolveBordered(J, Fp, t, b, &tn);
-        if (ok) {
-          tn.normalize();
-          if (tn.dot(t) < 0.0) tn = -tn;
-        }
-      }
-    }
+  BarrierPath path(&sys);
+  PathSettings settings;
+  settings.p_end = std::log(options.eps_end);
+  settings.first_dp = options.arclength_dlogeps;
+  settings.tolerance = options.path_tolerance;
+  settings.final_tolerance = 10.0 * options.residual_tolerance;
+  settings.corrector_iterations = options.corrector_iterations;
+  const auto report = [&](const PathPoint& point) {
     ContinuationStep step;
-    // a failed corrector reports the predictor's eps: its own last iterate may be far off the curve
-    step.eps = last ? options.eps_end : std::exp(ok ? z[n] : yp[n]);
-    step.iterations = its;
-    step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    step.converged = ok;
+    step.eps = point.last ? options.eps_end : std::exp(point.p);
+    step.iterations = point.iterations;
+    step.seconds = point.seconds;
+    step.converged = point.converged;
     std::ostringstream o;
     o << "arclength eps " << step.eps << ": ";
-    if (!ok) {
-      steps->push_back(step);
-      o << "FAILED in " << its << " iterations, " << step.seconds << " s, max residual "
-        << max_residual;
-      Log(LogKind::kInfo, o.str());
-      tr->mids = mids_y;
-      sys.Set(y.head(n));
-      ds = 0.5 * dsi;
-      if (ds * std::abs(t[n]) < 1e-6) return false;
-      continue;
+    if (point.converged) {
+      tr->weight = WeightFor(step.eps);
+      tr->EvaluateMids(false);
+      step.lap_time = tr->LapTime();
+      o << "converged in " << step.iterations << " iterations, " << step.seconds << " s, lap "
+        << step.lap_time << " s, max residual " << point.max_residual;
+      if (!point.last) o << ", d log eps / ds " << point.slope;
+    } else {
+      o << "FAILED in " << step.iterations << " iterations, " << step.seconds
+        << " s, max residual " << point.max_residual;
     }
-    tr->KeepControlsAsStarts();
-    tr->weight = WeightFor(step.eps);
-    tr->EvaluateMids(false);
-    step.lap_time = tr->LapTime();
-    steps->push_back(step);
-    o << "converged in " << its << " iterations, " << step.seconds << " s, lap " << step.lap_time
-      << " s, max residual " << max_residual;
-    if (!last) o << ", d log eps / ds " << tn[n];
     Log(LogKind::kInfo, o.str());
-    if (last) return true;
-    if (tn[n] >= 0.0) {  // a turning point between y and z: stop at z
-      *turning_point = sys.DescribeStateDirection(tn.head(n));
-      Log(LogKind::kInfo, "arclength: turning point of the solution curve at eps " +
-                              std::to_string(step.eps) + ": " + *turning_point);
-      return false;
-    }
-    y = z;
-    t = tn;
-    mids_y = tr->mids;
-    if (its <= 3) ds = 1.5 * dsi;
-    else if (its >= 6) ds = 0.7 * dsi;
+    steps->push_back(step);
+  };
+  Eigen::VectorXd turn;
+  const PathEnd end = FollowPath(&sys, &path, std::log(eps0), settings, report, &turn);
+  if (end == PathEnd::kTurned) {
+    *turning_point = sys.DescribeStateDirection(turn);
+    Log(LogKind::kInfo, "arclength: turning point of the solution curve at eps " +
+                            std::to_string(steps->back().eps) + ": " + *turning_point);
   }
+  return end == PathEnd::kReached;
+}
+
+// The first step at eps from a start near its solution (IndirectOptions::homotopy) by Newton's
+// homotopy (NewtonHomotopy) from t = 0 to 1; true when it reached F = 0 to residual_tolerance.
+// Otherwise (a turning point in t, a failed step, the iterations of max_iterations spent) the
+// unknowns and the controls' Newton starts are back at the start. `iterations`: Newton's.
+bool FirstStepByHomotopy(const IndirectOptions& options, Transcription* tr, ceres::Problem* problem,
+                         double eps, int* iterations) {
+  CurveSystem sys(tr, problem);
+  NewtonHomotopy homotopy(&sys, eps);
+  *iterations = 0;
+  if (!homotopy.Start()) return false;
+  const std::vector<double> w0 = tr->w;
+  const std::vector<NodeData> mids0 = tr->mids;
+  PathSettings settings;
+  settings.p_end = 1.0;
+  settings.first_dp = 0.1;
+  settings.tolerance = options.homotopy_tolerance;
+  settings.final_tolerance = 10.0 * options.residual_tolerance;
+  settings.corrector_iterations = options.corrector_iterations;
+  settings.max_iterations = options.max_iterations;
+  const auto report = [&](const PathPoint& point) {
+    *iterations += point.iterations;
+    std::ostringstream o;
+    o << "homotopy t " << point.p << ": " << (point.converged ? "converged" : "FAILED") << " in "
+      << point.iterations << " iterations, " << point.seconds << " s, max residual "
+      << point.max_residual;
+    Log(LogKind::kInfo, o.str());
+  };
+  Eigen::VectorXd turn;
+  const PathEnd end = FollowPath(&sys, &homotopy, 0.0, settings, report, &turn);
+  if (end == PathEnd::kReached) return true;
+  Log(LogKind::kInfo, end == PathEnd::kTurned
+                          ? "homotopy: turning point in t; Levenberg-Marquardt from the start"
+                          : "homotopy failed; Levenberg-Marquardt from the start");
+  tr->w = w0;
+  tr->mids = mids0;
+  tr->KeepControlsAsStarts();
   return false;
 }
 
@@ -307,13 +181,16 @@ Continuation RunContinuation(const IndirectOptions& options, Transcription* tr,
     so.initial_trust_region_radius = first ? 1e4 : 1e12;
     ceres::Solver::Summary cs;
     const auto t0 = std::chrono::steady_clock::now();
-    ceres::Solve(so, problem, &cs);
+    int homotopy_iterations = 0;
+    if (!(first && options.homotopy && tr->node_barriers &&
+          FirstStepByHomotopy(options, tr, problem, eps, &homotopy_iterations)))
+      ceres::Solve(so, problem, &cs);
     double max_all, max_state;
     ResidualPeak peak;
     ResidualLevels(tr, &max_all, &max_state, &peak);
     ContinuationStep step;
     step.eps = eps;
-    step.iterations = static_cast<int>(cs.iterations.size());
+    step.iterations = homotopy_iterations + static_cast<int>(cs.iterations.size());
     step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     step.converged = tr->all_valid && max_all <= 10.0 * tolerance;
     step.lap_time = tr->all_valid ? tr->LapTime() : 0.0;

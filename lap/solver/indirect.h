@@ -55,6 +55,18 @@ struct IndirectOptions {
   // retried) to 29 (7), 27.9 to 24.5 s; on the whole course it took 69 steps (10 retried), 337
   // iterations, 384 s against 70, 327, 369 s with 8 (docs/lap.md, session 33).
   int corrector_iterations = 8;
+  // The first step of a start near the solution at eps_start (node barriers on: the node
+  // barriers added to the midpoints' solution, the whole road from its stitched windows, an
+  // --init lap) by Newton's homotopy H(v, t) = F(v) - (1 - t) F(v0) = 0, followed from the start
+  // v0 (t = 0) to F = 0 (t = 1) by the pseudo-arclength steps above (lap/solver/solution_curve.h),
+  // instead of Levenberg-Marquardt; at a turning point in t, a failed step or after
+  // max_iterations Newton iterations Levenberg-Marquardt takes over from v0. On the TT course
+  // (20 m) the whole road's first step from its stitched windows took 40 Newton iterations, 43 s,
+  // against Levenberg-Marquardt's 248, 254 s (docs/lap.md, session 34). From the QSS guess
+  // (midpoints only) it is not used: there it turned or crept (10 km of the course: 17,702
+  // iterations in all against 1,610).
+  bool homotopy = true;
+  double homotopy_tolerance = 1e-5;  // max |H| at the homotopy's points before t = 1
   // The first step from a guess without costates, on a road longer than `window_m` [m] (0: never
   // windowed): solved window by window at eps_start (at retry_eps_start instead when that is set
   // and smaller: the weight at which the windows converged on the TT course, docs/lap.md), each

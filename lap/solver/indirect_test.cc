@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "lap/testing/problem.h"
@@ -128,6 +129,37 @@ TEST(IndirectTest, AFirstStepSolvedInWindowsEndsOnTheSameLap) {
   options.window_overlap_m = options.window_m;
   SolveSummary unused;
   EXPECT_THROW(SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, options, &unused), std::invalid_argument);
+}
+
+// A design study's warm start (lap --init): the lap of one gear ratio as the start for another,
+// one continuation step above eps_end. With its first step by Newton's homotopy
+// (IndirectOptions::homotopy) it ends on the lap solved from the QSS guess (the same discrete
+// problem), in fewer iterations than that step by Levenberg-Marquardt took (which here ran into
+// max_iterations: 301 against 48 when this test was written).
+TEST(IndirectTest, AWarmFirstStepByNewtonsHomotopyEndsOnTheColdLap) {
+  const Vehicle v = Bx15();
+  const MeshedRoad p(v, StraightRoad(300.0), 2.0);
+  SolveSummary first, cold;
+  const LapSolution a = SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, IndirectOptions{}, &first);
+  ASSERT_TRUE(first.converged) << first.message;
+  Vehicle geared = v;
+  geared.gamma_c *= 1.1;
+  const LapSolution c =
+      SolveIndirect(geared, p.road, p.mesh, p.qss.x, {}, p.qss.u, IndirectOptions{}, &cold);
+  ASSERT_TRUE(cold.converged) << cold.message;
+  const auto warm = [&](bool homotopy, SolveSummary* summary) {
+    IndirectOptions options;
+    options.eps_start = options.eps_end / options.eps_factor;
+    options.homotopy = homotopy;
+    return SolveIndirect(geared, p.road, p.mesh, a.x, a.lambda, a.u, options, summary);
+  };
+  SolveSummary by_homotopy, by_lm;
+  const LapSolution h = warm(true, &by_homotopy);
+  warm(false, &by_lm);
+  ASSERT_TRUE(by_homotopy.converged) << by_homotopy.message;
+  EXPECT_GT(std::abs(c.lap_time - a.lap_time), 1e-3 * a.lap_time);  // the gear ratio matters
+  EXPECT_NEAR(h.lap_time, c.lap_time, 1e-7 * c.lap_time);
+  EXPECT_LT(by_homotopy.steps.front().iterations, by_lm.steps.front().iterations);
 }
 
 }  // namespace

@@ -1,0 +1,131 @@
+// Curves of solutions of the indirect solver's square system F(v; eps) = 0 (indirect.cc), followed
+// by pseudo-arclength steps with Newton correctors on sparse LU (sparse_lu.h): the barrier
+// continuation in (v, log eps) and the Newton homotopy H(v, t) = F(v) - (1 - t) F(v0) at a fixed
+// eps, which takes a start v0 near a solution to it where Levenberg-Marquardt creeps (docs/lap.md).
+#pragma once
+
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <ceres/problem.h>
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "lap/solver/transcription.h"
+
+namespace ttz::lap {
+
+// The barrier weight eps with its relaxation delta = min(1e-3, 0.1 eps) (lap-solver notes).
+BarrierWeight WeightFor(double eps);
+
+// The square system F(v; eps) = 0 of the free unknowns v (tangent-space order of Ceres: costates
+// of node 0, then every unknown of nodes 1..N-1, then the states of node N).
+class CurveSystem {
+ public:
+  CurveSystem(Transcription* tr, ceres::Problem* problem);
+  int size() const { return n_; }
+  Transcription* transcription() const { return tr_; }
+  Eigen::VectorXd Get() const;
+  void Set(const Eigen::VectorXd& v);
+  // F at the current unknowns and eps; with J: also dF/dv; with Fp: dF/dp, p = log(eps), by a
+  // forward difference. False when an evaluation fails or is not finite.
+  bool Evaluate(double eps, Eigen::VectorXd* F, Eigen::SparseMatrix<double>* J,
+                Eigen::VectorXd* Fp);
+  // Where a direction `d` of the unknowns (a tangent at a turning point: the direction in which
+  // the solution changes while eps does not) moves the states (scaled): the node and state of its
+  // largest part, and the stretch of road between the first and the last node of the parts
+  // >= 10 % of it.
+  std::string DescribeStateDirection(const Eigen::VectorXd& d) const;
+
+ private:
+  // Position in v of unknown i of node k (node 0 contributes its costates, node N its states).
+  static int Index(int k, int i);
+  template <typename Visit>
+  void ForEachUnknown(Visit visit) const;
+
+  Transcription* tr_;
+  ceres::Problem* problem_;
+  int n_;
+};
+
+// Newton with sparse LU at fixed eps from the current unknowns; true when max |F| <= tol.
+bool NewtonAtFixedEps(CurveSystem* sys, double eps, double tol, int max_its, double* max_residual,
+                      int* its);
+
+// A one-parameter family G(v, p) = 0 of square systems whose member at the path's end is
+// F(v; Eps(p_end)) = 0.
+class PathFamily {
+ public:
+  virtual ~PathFamily() = default;
+  // G, dG/dv and dG/dp at the unknowns of the system and p.
+  virtual bool Evaluate(double p, Eigen::VectorXd* G, Eigen::SparseMatrix<double>* J,
+                        Eigen::VectorXd* Gp) = 0;
+  virtual double Eps(double p) const = 0;  // the barrier weight at p
+};
+
+// The barrier continuation: p = log eps, G = F(v; e^p).
+class BarrierPath : public PathFamily {
+ public:
+  explicit BarrierPath(CurveSystem* sys) : sys_(sys) {}
+  bool Evaluate(double p, Eigen::VectorXd* G, Eigen::SparseMatrix<double>* J,
+                Eigen::VectorXd* Gp) final;
+  double Eps(double p) const final;
+
+ private:
+  CurveSystem* sys_;
+};
+
+// Newton's homotopy at a fixed eps: p = t, G = F(v; eps) - (1 - t) r0 with r0 = F(v0; eps) at the
+// unknowns v0 where it is built (t = 0); G = F at t = 1.
+class NewtonHomotopy : public PathFamily {
+ public:
+  NewtonHomotopy(CurveSystem* sys, double eps) : sys_(sys), eps_(eps) {}
+  bool Start();  // r0 = F(v0; eps); false when F cannot be evaluated
+  const Eigen::VectorXd& r0() const { return r0_; }
+  bool Evaluate(double t, Eigen::VectorXd* G, Eigen::SparseMatrix<double>* J,
+                Eigen::VectorXd* Gp) final;
+  double Eps(double) const final { return eps_; }
+
+ private:
+  CurveSystem* sys_;
+  double eps_;
+  Eigen::VectorXd r0_;
+};
+
+struct PathSettings {
+  double p_end = 0.0;                 // where the path ends
+  double first_dp = 0.1;              // the first step's change of p
+  double tolerance = 1e-7;            // max |G| at the points before the end
+  double final_tolerance = 1e-8;      // max |F| at the end (Newton at Eps(p_end), <= 12 its)
+  int corrector_iterations = 8;       // Newton iterations of a step's corrector before it is halved
+  int max_iterations = std::numeric_limits<int>::max();  // over all steps
+};
+
+// One step of FollowPath: p where it converged (the predictor's p when it failed).
+struct PathPoint {
+  double p = 0.0;
+  int iterations = 0;
+  double seconds = 0.0;
+  bool converged = false;
+  bool last = false;           // at p_end
+  double max_residual = 0.0;   // max |G| at its last iterate
+  double slope = 0.0;          // dp/ds of the new tangent (not at the last step)
+};
+
+enum class PathEnd { kReached, kTurned, kFailed };
+
+// Follows the solution curve of `family` from the solution at p0 in `sys` (G(v, p0) = 0) towards
+// settings.p_end: predictor along the unit tangent of (v, p), Newton corrector on
+// [G; t^T (y - y_pred)] = 0 (the bordered system), the step grown after an easy corrector (<= 3
+// iterations) and shrunk after a hard one (>= 6), halved after a failed one (the unknowns and the
+// controls' Newton starts back at the last point); the last step lands on p_end and converges
+// there by Newton on F. Reports every step; stops at a turning point (p starts to go back:
+// kTurned, with the tangent there in `turn`), after 400 steps, when a step shrinks below 1e-6 in p
+// or the iterations exceed their budget (kFailed). The unknowns are left at the last converged
+// point.
+PathEnd FollowPath(CurveSystem* sys, PathFamily* family, double p0, const PathSettings& settings,
+                   const std::function<void(const PathPoint&)>& report, Eigen::VectorXd* turn);
+
+}  // namespace ttz::lap
