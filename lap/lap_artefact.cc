@@ -158,6 +158,7 @@ void WriteAttributes(ArtefactWriter& w, const LapSolution& sol, const SolveSumma
   w.WriteAttribute("mu_init", p.solver_options.mu_init);
   w.WriteAttribute("window_m", p.solver_options.window_m);
   w.WriteAttribute("window_overlap_m", p.solver_options.window_overlap_m);
+  w.WriteAttribute("window_eps_end", p.solver_options.window_eps_end);
   w.WriteAttribute("bike_yaml", p.bike_yaml);
   w.WriteAttribute("road_file", p.road_file);
   w.WriteAttribute("road_sha256", p.road_sha256);

@@ -28,6 +28,7 @@ struct LapSolverOptions {
   double mu_init = 0.0;          // Ipopt's mu_init [1]; 0 for the indirect solver
   double window_m = 0.0;          // the indirect solver's windows (IndirectOptions) [m]; 0 for Ipopt
   double window_overlap_m = 0.0;  // their overlap [m]; 0 for Ipopt
+  double window_eps_end = 0.0;    // the weight the windows go down to [1]; 0 without windows
 };
 
 // What lap.h5 records about the run besides the solution.

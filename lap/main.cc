@@ -39,6 +39,7 @@ struct Arguments {
   double mu_init = IpoptOptions{}.mu_init;
   double window_m = IndirectOptions{}.window_m;
   double window_overlap_m = IndirectOptions{}.window_overlap_m;
+  double window_eps_end = IndirectOptions{}.window_eps_end;
   bool json = false, quiet = false, verbose = false;
 };
 
@@ -100,6 +101,11 @@ void DefineOptions(CLI::App& app, Arguments& a) {
   app.add_option("--window-overlap", a.window_overlap_m,
                  "indirect: the part of each window's end [m] that the next window solves again (less than --window)")
       ->check(kNonNegative)
+      ->capture_default_str();
+  app.add_option("--window-eps", a.window_eps_end,
+                 "indirect: the barrier weight down to which each window follows the continuation before the whole "
+                 "road's starts there (at or above the first step's weight: the first step alone)")
+      ->check(CLI::PositiveNumber)
       ->capture_default_str();
   app.add_flag("--json", a.json, "print the summary as one JSON object");
   auto* quiet = app.add_flag("-q,--quiet", a.quiet, "print warnings and errors only");
@@ -194,8 +200,10 @@ IpoptOptions IpoptOptionsOf(const Arguments& a) {
 
 // What lap.h5 records of the options the solver ran with (docs/lap_h5.md).
 LapSolverOptions SolverOptionsOf(const Arguments& a, const IpoptOptions& ipopt, const IndirectOptions& indirect) {
-  if (a.solver != "ipopt") return {indirect.max_iterations, "", "", 0.0, indirect.window_m, indirect.window_overlap_m};
-  return {ipopt.max_iterations, ipopt.mu_globalization, ipopt.mu_strategy, ipopt.mu_init, 0.0, 0.0};
+  if (a.solver != "ipopt")
+    return {indirect.max_iterations, "", "", 0.0, indirect.window_m, indirect.window_overlap_m,
+            indirect.window_m > 0.0 ? indirect.window_eps_end : 0.0};
+  return {ipopt.max_iterations, ipopt.mu_globalization, ipopt.mu_strategy, ipopt.mu_init, 0.0, 0.0, 0.0};
 }
 
 // The longest roads on which the indirect solver converges with its default settings are 5 km;
@@ -228,6 +236,7 @@ LapSolution Solve(const Arguments& a, const Vehicle& v, const RoadTrack& track, 
 void SetWindows(const Arguments& a, IndirectOptions* options) {
   options->window_m = a.window_m;
   options->window_overlap_m = a.window_overlap_m;
+  options->window_eps_end = a.window_eps_end;
   if (options->WindowsAreValid()) return;
   std::ostringstream o;
   o << a.window_overlap_m << " m, expected less than --window (" << a.window_m << " m)";

@@ -13,6 +13,7 @@
 #include "common/artefact.h"
 #include "common/road_artefact.h"
 #include "lap/model/constraints.h"
+#include "lap/solver/indirect.h"
 #include "lap/solver/ipopt_direct.h"
 #include "lap/testing/test_bike.h"
 
@@ -474,6 +475,8 @@ TEST_F(LapCli, TheIndirectSolverSolvesInWindowsWhenAsked) {
   EXPECT_EQ(whole.ReadDoubleAttribute("window_m"), 0.0);
   EXPECT_EQ(windows.ReadDoubleAttribute("window_m"), 200.0);
   EXPECT_EQ(windows.ReadDoubleAttribute("window_overlap_m"), 50.0);
+  EXPECT_EQ(whole.ReadDoubleAttribute("window_eps_end"), 0.0);
+  EXPECT_EQ(windows.ReadDoubleAttribute("window_eps_end"), ttz::lap::IndirectOptions{}.window_eps_end);
   // more steps than the whole road's continuation: the windows' come first (SolveSummary::steps)
   EXPECT_GT(windows.ReadVector("continuation/eps", "1").size(), whole.ReadVector("continuation/eps", "1").size());
   EXPECT_NEAR(windows.ReadDoubleAttribute("lap_time"), whole.ReadDoubleAttribute("lap_time"),

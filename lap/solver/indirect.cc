@@ -339,6 +339,12 @@ Continuation SolveFrom(const IndirectOptions& options, bool from_guess, Transcri
   return RunContinuation(options, tr, problem, summary);
 }
 
+// The weight down to which the windows follow the continuation (IndirectOptions::window_eps_end),
+// where the whole road's starts.
+double WindowsEpsEnd(const IndirectOptions& options) {
+  return std::min(options.eps_start, std::max(options.window_eps_end, options.eps_end));
+}
+
 // Window [a, b] of the first step by its tries: from the stitched guess at eps_start, from its own
 // guess (IndirectOptions::window_guess, when given), from the stitched guess under a ten times
 // heavier barrier followed down to eps_start (docs/lap.md "A price on rolling the bike"); true
@@ -375,9 +381,9 @@ bool SolveWindow(const Vehicle& v, const RoadTrack& road, const std::vector<doub
   return false;
 }
 
-// The first step window by window (IndirectOptions::window_m): fills lambda_guess and updates
-// x_guess and u_guess with the stitched windows' solution; false when a window failed (at every
-// length down to window_min_m).
+// The first step, and the continuation down to WindowsEpsEnd, window by window
+// (IndirectOptions::window_m): fills lambda_guess and updates x_guess and u_guess with the
+// stitched windows' solution; false when a window failed (at every length down to window_min_m).
 bool SolveFirstStepInWindows(const Vehicle& v, const RoadTrack& road,
                              const std::vector<double>& mesh, const IndirectOptions& options,
                              std::vector<StateVector<double>>* x_guess,
@@ -387,7 +393,7 @@ bool SolveFirstStepInWindows(const Vehicle& v, const RoadTrack& road,
   lambda_guess->assign(n, StateVector<double>{});
   IndirectOptions window = options;
   window.window_m = 0.0;
-  window.eps_end = options.eps_start;  // the first step alone
+  window.eps_end = WindowsEpsEnd(options);
   window.retry_eps_start = 0.0;
   std::vector<WindowJunction> junctions;
   double length = options.window_m;
@@ -454,6 +460,7 @@ LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
     const bool ok = SolveFirstStepInWindows(v, road, mesh, windowed, &x, &lambda, &u, &windows);
     IndirectOptions whole = ok ? windowed : options;
     whole.window_m = 0.0;
+    if (ok) whole.eps_start = WindowsEpsEnd(windowed);
     if (!ok) Log(LogKind::kInfo, "a window of the first step failed: the whole road from the guess");
     LapSolution sol = ok ? SolveIndirect(v, road, mesh, x, lambda, u, whole, summary)
                          : SolveIndirect(v, road, mesh, x_guess, {}, u_guess, whole, summary);

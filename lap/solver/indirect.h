@@ -83,6 +83,15 @@ struct IndirectOptions {
   // throws std::invalid_argument.
   double window_m = 0.0;
   double window_overlap_m = 1000.0;
+  // The windows do not stop at the first step: each follows the continuation down to this weight
+  // (clamped to [eps_end, the first step's weight]; at that weight: the first step alone), and
+  // the whole road's continuation starts there by Newton's homotopy from their stitched answer.
+  // The steps that cost the most on the whole road are those of the first decade in eps (TT
+  // course, 20 m: 41 of 73 arclength steps, 213 of 360 s), and a window takes them on its own
+  // 3 km: the first 10 km 92.7 -> 53.8 s, the whole course 705.6 -> 634.0 s (docs/lap.md
+  // "Windows down to eps 1e-2"). Below 1e-2 the whole road's homotopy from the stitched windows
+  // did not converge (1e-4: a turning point in t, then Levenberg-Marquardt failed at a junction).
+  double window_eps_end = 1e-2;
   // A window that fails every try is solved again from the same start as a window of half the
   // length (the same overlap), as long as that length is at least window_min_m [m] and longer
   // than the overlap; the next window has the full length again. On the TT course (3 km windows

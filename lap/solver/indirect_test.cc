@@ -102,30 +102,39 @@ TEST(IndirectTest, AFailedFirstStepIsRetriedFromTheGuessAtTheRetryWeight) {
   EXPECT_EQ(calls, 2);
 }
 
-// The first step window by window (IndirectOptions::window_m): windows of 150 m with 50 m of
-// overlap on the 300 m straight (0-150, 100-250 and 200-300 m), each converged at eps_start, then
+// Windows (IndirectOptions::window_m) of 150 m with 50 m of overlap on the 300 m straight (0-150,
+// 100-250 and 200-300 m), each converged at eps_start and followed down to window_eps_end, then
 // the continuation on the whole road from their stitched states and costates ends on the lap of
-// the unwindowed solve (the same discrete problem). An overlap as long as the window is an error.
+// the unwindowed solve (the same discrete problem); so it does with windows of the first step
+// alone (window_eps_end at eps_start). An overlap as long as the window is an error.
 TEST(IndirectTest, AFirstStepSolvedInWindowsEndsOnTheSameLap) {
   const Vehicle v = Bx15();
   const MeshedRoad p(v, StraightRoad(300.0), 2.0);
-  SolveSummary whole, windowed;
+  SolveSummary whole;
   const LapSolution a =
       SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, IndirectOptions{}, &whole);
+  ASSERT_TRUE(whole.converged) << whole.message;
   IndirectOptions options;
   options.window_m = 150.0;
   options.window_overlap_m = 50.0;
-  const LapSolution b = SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, options, &windowed);
-  ASSERT_TRUE(whole.converged) << whole.message;
-  ASSERT_TRUE(windowed.converged) << windowed.message;
-  // The windows 0-150, 100-250 and 200-300 m come first among the steps, each at the retry's
-  // weight (0.1; IndirectOptions::window_m), as the whole road's first step after them.
-  ASSERT_GT(windowed.steps.size(), 3u);
-  int at_start = 0;
-  for (const ContinuationStep& step : windowed.steps) at_start += step.eps == options.retry_eps_start;
-  EXPECT_EQ(at_start, 7);  // three windows' first steps (midpoints, then nodes) and the whole road's
-  EXPECT_NEAR(b.lap_time, a.lap_time, 1e-6 * a.lap_time);
-  EXPECT_NEAR(b.lap_time_extrapolated, a.lap_time_extrapolated, 1e-6 * a.lap_time);
+  // The number of steps at eps, and the lap, with the windows going down to window_eps_end.
+  const auto windowed = [&](double window_eps_end, double eps) {
+    options.window_eps_end = window_eps_end;
+    SolveSummary summary;
+    const LapSolution b = SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, options, &summary);
+    EXPECT_TRUE(summary.converged) << summary.message;
+    EXPECT_NEAR(b.lap_time, a.lap_time, 1e-6 * a.lap_time);
+    EXPECT_NEAR(b.lap_time_extrapolated, a.lap_time_extrapolated, 1e-6 * a.lap_time);
+    return std::count_if(summary.steps.begin(), summary.steps.end(),
+                         [&](const ContinuationStep& step) { return step.eps == eps; });
+  };
+  // The windows come first among the steps, each from the retry's weight (0.1;
+  // IndirectOptions::window_m). Down to 1e-2: each window's last step and the whole road's first
+  // are at 1e-2, and only the windows' first steps (midpoints, then nodes) at 0.1.
+  EXPECT_EQ(windowed(1e-2, 1e-2), 4);
+  EXPECT_EQ(windowed(1e-2, options.retry_eps_start), 6);
+  // The first step alone: three windows' first steps and the whole road's at 0.1.
+  EXPECT_EQ(windowed(options.retry_eps_start, options.retry_eps_start), 7);
   options.window_overlap_m = options.window_m;
   SolveSummary unused;
   EXPECT_THROW(SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, options, &unused), std::invalid_argument);
