@@ -345,10 +345,10 @@ double WindowsEpsEnd(const IndirectOptions& options) {
   return std::min(options.eps_start, std::max(options.window_eps_end, options.eps_end));
 }
 
-// Window [a, b] of the first step by its tries: from the stitched guess at eps_start, from its own
-// guess (IndirectOptions::window_guess, when given), from the stitched guess under a ten times
-// heavier barrier followed down to eps_start (docs/lap.md "A price on rolling the bike"); true
-// when one converged, with its answer in `sol`.
+// Window [a, b] by its tries, each from eps_start (a ten times heavier barrier in the last) down to
+// the window's eps_end: from the stitched guess, from its own guess
+// (IndirectOptions::window_guess, when given), from the stitched guess under the heavier barrier
+// (docs/lap.md "A price on rolling the bike"); true when one converged, with its answer in `sol`.
 bool SolveWindow(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh, int a,
                  int b, const IndirectOptions& window,
                  const std::vector<StateVector<double>>& x_guess,

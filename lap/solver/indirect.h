@@ -88,7 +88,7 @@ struct IndirectOptions {
   // the whole road's continuation starts there by Newton's homotopy from their stitched answer.
   // The steps that cost the most on the whole road are those of the first decade in eps (TT
   // course, 20 m: 41 of 73 arclength steps, 213 of 360 s), and a window takes them on its own
-  // 3 km: the first 10 km 92.7 -> 53.8 s, the whole course 705.6 -> 634.0 s (docs/lap.md
+  // 3 km: the first 10 km 92.1 -> 53.8 s, the whole course 705.6 -> 634.0 s (docs/lap.md
   // "Windows down to eps 1e-2"). Below 1e-2 the whole road's homotopy from the stitched windows
   // did not converge (1e-4: a turning point in t, then Levenberg-Marquardt failed at a junction).
   double window_eps_end = 1e-2;

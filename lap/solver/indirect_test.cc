@@ -117,24 +117,28 @@ TEST(IndirectTest, AFirstStepSolvedInWindowsEndsOnTheSameLap) {
   IndirectOptions options;
   options.window_m = 150.0;
   options.window_overlap_m = 50.0;
-  // The number of steps at eps, and the lap, with the windows going down to window_eps_end.
-  const auto windowed = [&](double window_eps_end, double eps) {
+  // The steps with the windows going down to window_eps_end; the lap is the unwindowed one.
+  const auto windowed = [&](double window_eps_end) {
     options.window_eps_end = window_eps_end;
     SolveSummary summary;
     const LapSolution b = SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, options, &summary);
     EXPECT_TRUE(summary.converged) << summary.message;
     EXPECT_NEAR(b.lap_time, a.lap_time, 1e-6 * a.lap_time);
     EXPECT_NEAR(b.lap_time_extrapolated, a.lap_time_extrapolated, 1e-6 * a.lap_time);
-    return std::count_if(summary.steps.begin(), summary.steps.end(),
+    return summary.steps;
+  };
+  const auto at = [](const std::vector<ContinuationStep>& steps, double eps) {
+    return std::count_if(steps.begin(), steps.end(),
                          [&](const ContinuationStep& step) { return step.eps == eps; });
   };
   // The windows come first among the steps, each from the retry's weight (0.1;
   // IndirectOptions::window_m). Down to 1e-2: each window's last step and the whole road's first
   // are at 1e-2, and only the windows' first steps (midpoints, then nodes) at 0.1.
-  EXPECT_EQ(windowed(1e-2, 1e-2), 4);
-  EXPECT_EQ(windowed(1e-2, options.retry_eps_start), 6);
+  const std::vector<ContinuationStep> down = windowed(1e-2);
+  EXPECT_EQ(at(down, 1e-2), 4);
+  EXPECT_EQ(at(down, options.retry_eps_start), 6);
   // The first step alone: three windows' first steps and the whole road's at 0.1.
-  EXPECT_EQ(windowed(options.retry_eps_start, options.retry_eps_start), 7);
+  EXPECT_EQ(at(windowed(options.retry_eps_start), options.retry_eps_start), 7);
   options.window_overlap_m = options.window_m;
   SolveSummary unused;
   EXPECT_THROW(SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, options, &unused), std::invalid_argument);
