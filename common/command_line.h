@@ -12,6 +12,22 @@
 
 namespace ttz {
 
+// Checks of a number option, in place of CLI::PositiveNumber and CLI::NonNegativeNumber, whose
+// messages print the whole double range: these say what is expected ("--ds: value -1 is not a
+// positive number").
+inline CLI::Validator NumberCheck(bool positive) {
+  const std::string what = positive ? "positive" : "non-negative";
+  return CLI::Validator(
+      [positive, what](std::string& text) {
+        double x = 0.0;
+        if (CLI::detail::lexical_cast(text, x) && (positive ? x > 0.0 : x >= 0.0)) return std::string();
+        return "value " + text + " is not a " + what + " number";
+      },
+      positive ? "POSITIVE" : "NONNEGATIVE");
+}
+inline const CLI::Validator kPositiveNumber = NumberCheck(true);
+inline const CLI::Validator kNonNegativeNumber = NumberCheck(false);
+
 // `run()` returns the exit code; an InputError it throws exits kExitBadInput, any other
 // exception kExitOther, each after one line on stderr.
 template <typename Run>

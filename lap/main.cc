@@ -43,26 +43,17 @@ struct Arguments {
   bool json = false, quiet = false, verbose = false;
 };
 
-// CLI::NonNegativeNumber's message prints the whole double range; this one says what is expected.
-const CLI::Validator kNonNegative(
-    [](std::string& text) {
-      double x = 0.0;
-      if (CLI::detail::lexical_cast(text, x) && x >= 0.0) return std::string();
-      return "value " + text + " is not a non-negative number";
-    },
-    "NONNEGATIVE");
-
 void DefineOptions(CLI::App& app, Arguments& a) {
   app.add_option("ROAD", a.road, "the road (road.h5 from road_fit, docs/road_h5.md)")->required();
   app.add_option("BIKE", a.bike, "the motorcycle (bike.yaml, docs/bike.md)")->required();
   app.add_option("-o,--output", a.output, "lap artefact to write (HDF5, see docs/lap_h5.md)")->required();
   app.add_option("--set", a.overrides, "override a bike.yaml value: section.key=value (repeatable)");
   app.add_option("--ds", a.mesh.ds_m, "largest mesh spacing along the road [m]")
-      ->check(CLI::PositiveNumber)
+      ->check(ttz::kPositiveNumber)
       ->capture_default_str();
   app.add_option("--dt-max", a.mesh.dt_max_s,
                  "largest duration of a mesh interval at the quasi-steady speed [s]; 0: a uniform mesh (lap/mesh.h)")
-      ->check(kNonNegative)
+      ->check(ttz::kNonNegativeNumber)
       ->capture_default_str();
   app.add_option("--init", a.init,
                  "warm start from an earlier lap.h5 of this road (states, controls, costates, barrier weight); "
@@ -79,7 +70,7 @@ void DefineOptions(CLI::App& app, Arguments& a) {
                  "iteration limit: Ceres iterations of the first continuation step (indirect, default " +
                      std::to_string(IndirectOptions{}.max_iterations) + ") or Ipopt iterations (ipopt, default " +
                      std::to_string(IpoptOptions{}.max_iterations) + ")")
-      ->check(CLI::PositiveNumber);
+      ->check(ttz::kPositiveNumber);
   app.add_option("--mu-globalization", a.mu_globalization,
                  "Ipopt's adaptive_mu_globalization (ipopt): kkt-error solves laps whose pack is a little short of "
                  "what the lap at full current uses (docs/lap.md)")
@@ -91,21 +82,21 @@ void DefineOptions(CLI::App& app, Arguments& a) {
       ->check(CLI::IsMember({"adaptive", "monotone"}))
       ->capture_default_str();
   app.add_option("--mu-init", a.mu_init, "Ipopt's mu_init (ipopt): the first barrier weight")
-      ->check(CLI::PositiveNumber)
+      ->check(ttz::kPositiveNumber)
       ->capture_default_str();
   app.add_option("--window", a.window_m,
                  "indirect: solve the first continuation step window by window, each this long [m] (0: the whole "
                  "road at once; docs/lap.md \"Status\" says on which roads windows help)")
-      ->check(kNonNegative)
+      ->check(ttz::kNonNegativeNumber)
       ->capture_default_str();
   app.add_option("--window-overlap", a.window_overlap_m,
                  "indirect: the part of each window's end [m] that the next window solves again (less than --window)")
-      ->check(kNonNegative)
+      ->check(ttz::kNonNegativeNumber)
       ->capture_default_str();
   app.add_option("--window-eps", a.window_eps_end,
                  "indirect: the barrier weight down to which each window follows the continuation before the whole "
                  "road's starts there (at or above the first step's weight: the first step alone)")
-      ->check(CLI::PositiveNumber)
+      ->check(ttz::kPositiveNumber)
       ->capture_default_str();
   app.add_flag("--json", a.json, "print the summary as one JSON object");
   auto* quiet = app.add_flag("-q,--quiet", a.quiet, "print warnings and errors only");

@@ -29,18 +29,18 @@ void DefineOptions(CLI::App& app, Arguments& a) {
       ->required();
   app.add_option("-o,--output", a.output, "road artefact to write (HDF5, see docs/road_h5.md)")->required();
   app.add_option("--ds", a.fit.ds_m, "node and output spacing along the road [m]")
-      ->check(CLI::PositiveNumber)
+      ->check(ttz::kPositiveNumber)
       ->capture_default_str();
   app.add_option("--smoothing", a.fit.smoothing_weight,
                  "weight w_u of the smoothness term U(u) (eq. 4a); larger is smoother")
-      ->check(CLI::PositiveNumber)
+      ->check(ttz::kPositiveNumber)
       ->capture_default_str();
   auto* closed = app.add_flag("--closed", a.closed, "the road is a closed circuit (default: detected)");
   app.add_flag("--open", a.open, "the road is not a circuit (default: detected)")->excludes(closed);
   app.add_option("--elevation", a.read.elevation_source,
                  "elevation for points without it: a raster GDAL reads, or a polyline CSV lat,lon,elevation");
   app.add_option("--width", a.read.width_m, "road width [m] for centre lines without a width column")
-      ->check(CLI::PositiveNumber);
+      ->check(ttz::kPositiveNumber);
   app.add_flag("--robust", a.fit.robust,
                "keep far outliers and absorb them with a Cauchy loss instead of rejecting the input");
   app.add_flag("-q,--quiet", a.quiet, "print warnings and errors only");

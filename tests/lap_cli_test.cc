@@ -492,6 +492,7 @@ TEST_F(LapCli, BadOptions) {
   ExpectBadInput(Lap("road.h5 bike.yaml --mu-init 0"), "--mu-init");
   ExpectBadInput(Lap("road.h5 bike.yaml --dt-max -0.5"), "--dt-max: value -0.5 is not a non-negative number");
   ExpectBadInput(Lap("road.h5 bike.yaml --window -1"), "--window: value -1 is not a non-negative number");
+  ExpectBadInput(Lap("road.h5 bike.yaml --window-eps 0"), "--window-eps: value 0 is not a positive number");
   ExpectBadInput(Lap("road.h5 bike.yaml --window 500 --window-overlap 500"),
                  "--window-overlap: 500 m, expected less than --window (500 m)");
 }
