@@ -5,7 +5,8 @@
 // CPU time (all threads) per iteration and node, peak memory and the re-simulation check's
 // lap-time and largest state difference (not a test). KEY=VALUE arguments after EPS_START override
 // bike.yaml values as `lap --set` does; `indirect.window_m=M`, `indirect.window_overlap_m=M`,
-// `indirect.window_min_m=M`, `indirect.window_eps_end=X`, `indirect.max_iterations=N`, `indirect.path_tolerance=X`,
+// `indirect.window_min_m=M`, `indirect.window_eps_end=X`, `indirect.eps_end=X`, `indirect.num_threads=N`,
+// `indirect.max_iterations=N`, `indirect.path_tolerance=X`,
 // `indirect.corrector_iterations=N` and `indirect.homotopy=0|1` set the indirect solver's options
 // of those names, `ipopt.NAME=VALUE` Ipopt's option NAME (e.g. `ipopt.print_level=5`). CPU time per iteration and node is the figure to compare across
 // meshes: other processes sharing the machine do not count in it.
@@ -75,7 +76,8 @@ struct Settings {
 };
 
 // One KEY=VALUE argument: `indirect.window_m`, `indirect.window_overlap_m`,
-// `indirect.window_min_m`, `indirect.window_eps_end`, `indirect.max_iterations`, `indirect.path_tolerance`,
+// `indirect.window_min_m`, `indirect.window_eps_end`, `indirect.eps_end`, `indirect.num_threads`,
+// `indirect.max_iterations`, `indirect.path_tolerance`,
 // `indirect.corrector_iterations` and `indirect.homotopy` set the indirect solver's
 // IndirectOptions of those names,
 // `ipopt.NAME` Ipopt's option NAME (IpoptOptions::extra, checked when Ipopt starts),
@@ -89,6 +91,8 @@ void ParseSetting(const std::string& a, Settings* settings) {
   else if (key == "indirect.window_overlap_m") indirect->window_overlap_m = Number(value, key);
   else if (key == "indirect.window_min_m") indirect->window_min_m = Number(value, key);
   else if (key == "indirect.window_eps_end") indirect->window_eps_end = Number(value, key);
+  else if (key == "indirect.eps_end") indirect->eps_end = Number(value, key);
+  else if (key == "indirect.num_threads") indirect->num_threads = static_cast<int>(Number(value, key));
   else if (key == "indirect.max_iterations") indirect->max_iterations = static_cast<int>(Number(value, key));
   else if (key == "indirect.path_tolerance") indirect->path_tolerance = Number(value, key);
   else if (key == "indirect.corrector_iterations")
@@ -97,7 +101,7 @@ void ParseSetting(const std::string& a, Settings* settings) {
   else if (key.rfind("indirect.", 0) == 0)
     throw std::invalid_argument(key + ": not an option of lap_bench (indirect.window_m, "
                                       "indirect.window_overlap_m, indirect.window_min_m, indirect.window_eps_end, "
-                                      "indirect.max_iterations, indirect.path_tolerance, "
+                                      "indirect.eps_end, indirect.num_threads, indirect.max_iterations, indirect.path_tolerance, "
                                       "indirect.corrector_iterations, indirect.homotopy)");
   else if (key.rfind("ipopt.", 0) == 0 && eq != std::string::npos) settings->ipopt.extra.emplace_back(key.substr(6), value);
   else if (key == "guess" && (value == "centre-line" || value == "racing-line")) settings->racing_line = value == "racing-line";
