@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "common/log.h"
+#include "common/memory.h"
 #include "common/parse_number.h"
 #include "common/road_artefact.h"
 #include "lap/bike.h"
@@ -150,6 +151,7 @@ int Bench(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  ttz::KeepFreedMemory();
   if (argc < 5) {
     std::fprintf(stderr, "usage: lap_bench ROAD.h5 BIKE.yaml DS_M LENGTH_M [indirect|ipopt|both] [DT_MAX_S] [EPS_START] [KEY=VALUE ...]\n");
     return 2;

@@ -8,10 +8,12 @@
 #include <string>
 
 #include "common/log.h"
+#include "common/memory.h"
 #include "road_fit/ribbon_fit.h"
 #include "road_fit/road_input.h"
 
 int main(int argc, char** argv) {
+  ttz::KeepFreedMemory();  // as road_fit
   if (argc < 3) {
     std::fprintf(stderr, "usage: road_fit_bench SHARED_DATA_DIR LENGTH_KM [LENGTH_KM ...]\n");
     return 2;

@@ -13,6 +13,7 @@
 #include "common/command_line.h"
 #include "common/error.h"
 #include "common/log.h"
+#include "common/memory.h"
 #include "common/road_artefact.h"
 #include "lap/bike.h"
 #include "lap/lap_artefact.h"
@@ -288,6 +289,7 @@ int Run(const Arguments& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  ttz::KeepFreedMemory();
   CLI::App app{"lap: minimum-lap-time optimal control of an electric motorcycle on a road (paper eq. 9-39)"};
   Arguments arguments;
   DefineOptions(app, arguments);

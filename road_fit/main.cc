@@ -7,6 +7,7 @@
 #include "common/command_line.h"
 #include "common/error.h"
 #include "common/log.h"
+#include "common/memory.h"
 #include "common/road_artefact.h"
 #include "road_fit/ribbon_fit.h"
 #include "road_fit/road_input.h"
@@ -70,6 +71,7 @@ int Run(const Arguments& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  ttz::KeepFreedMemory();
   CLI::App app{"road_fit: fit a smooth 3-D road ribbon (paper eq. 4-8) to measured border points"};
   Arguments arguments;
   DefineOptions(app, arguments);
