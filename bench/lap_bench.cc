@@ -4,11 +4,9 @@
 // from 0 to LENGTH_M, printing lap time, convergence, iterations, wall time, time per iteration,
 // CPU time (all threads) per iteration and node, peak memory and the re-simulation check's
 // lap-time and largest state difference (not a test). KEY=VALUE arguments after EPS_START override
-// bike.yaml values as `lap --set` does; `indirect.window_m=M`, `indirect.window_overlap_m=M`,
-// `indirect.window_min_m=M`, `indirect.window_eps_end=X`, `indirect.eps_end=X`, `indirect.num_threads=N`,
-// `indirect.max_iterations=N`, `indirect.path_tolerance=X`,
-// `indirect.corrector_iterations=N` and `indirect.homotopy=0|1` set the indirect solver's options
-// of those names, `ipopt.NAME=VALUE` Ipopt's option NAME (e.g. `ipopt.print_level=5`). CPU time per iteration and node is the figure to compare across
+// bike.yaml values as `lap --set` does; `indirect.NAME=VALUE` sets the indirect solver's option NAME
+// (those of kIndirectKeys below, e.g. `indirect.window_m=3000`; `indirect.homotopy=0|1`),
+// `ipopt.NAME=VALUE` Ipopt's option NAME (e.g. `ipopt.print_level=5`). CPU time per iteration and node is the figure to compare across
 // meshes: other processes sharing the machine do not count in it.
 #include <sys/resource.h>
 
@@ -76,34 +74,45 @@ struct Settings {
   std::optional<bool> racing_line;  // the guess (`lap --guess`): unset, each solver's default
 };
 
-// One KEY=VALUE argument: `indirect.window_m`, `indirect.window_overlap_m`,
-// `indirect.window_min_m`, `indirect.window_eps_end`, `indirect.eps_end`, `indirect.num_threads`,
-// `indirect.max_iterations`, `indirect.path_tolerance`,
-// `indirect.corrector_iterations` and `indirect.homotopy` set the indirect solver's
-// IndirectOptions of those names,
+// The indirect solver's options that `indirect.NAME=VALUE` sets, by NAME.
+struct IndirectKey {
+  const char* name;
+  void (*set)(ttz::lap::IndirectOptions*, double);
+};
+constexpr IndirectKey kIndirectKeys[] = {
+    {"window_m", [](ttz::lap::IndirectOptions* o, double x) { o->window_m = x; }},
+    {"window_overlap_m", [](ttz::lap::IndirectOptions* o, double x) { o->window_overlap_m = x; }},
+    {"window_min_m", [](ttz::lap::IndirectOptions* o, double x) { o->window_min_m = x; }},
+    {"window_eps_end", [](ttz::lap::IndirectOptions* o, double x) { o->window_eps_end = x; }},
+    {"eps_end", [](ttz::lap::IndirectOptions* o, double x) { o->eps_end = x; }},
+    {"num_threads", [](ttz::lap::IndirectOptions* o, double x) { o->num_threads = static_cast<int>(x); }},
+    {"max_iterations", [](ttz::lap::IndirectOptions* o, double x) { o->max_iterations = static_cast<int>(x); }},
+    {"path_tolerance", [](ttz::lap::IndirectOptions* o, double x) { o->path_tolerance = x; }},
+    {"corrector_iterations",
+     [](ttz::lap::IndirectOptions* o, double x) { o->corrector_iterations = static_cast<int>(x); }},
+    {"homotopy", [](ttz::lap::IndirectOptions* o, double x) { o->homotopy = x != 0.0; }},
+};
+
+// `indirect.NAME=VALUE` (NAME = key without its prefix): sets option NAME of kIndirectKeys, else
+// std::invalid_argument listing them.
+void SetIndirect(const std::string& key, const std::string& name, const std::string& value,
+                 ttz::lap::IndirectOptions* indirect) {
+  std::string names;
+  for (const IndirectKey& k : kIndirectKeys) {
+    if (name == k.name) return k.set(indirect, Number(value, key));
+    names += (names.empty() ? "indirect." : ", indirect.") + std::string(k.name);
+  }
+  throw std::invalid_argument(key + ": not an option of lap_bench (" + names + ")");
+}
+
+// One KEY=VALUE argument: `indirect.NAME` the indirect solver's option NAME (SetIndirect),
 // `ipopt.NAME` Ipopt's option NAME (IpoptOptions::extra, checked when Ipopt starts),
 // `guess=centre-line` or `guess=racing-line` the initial guess (`lap --guess`), any other key
 // overrides bike.yaml.
 void ParseSetting(const std::string& a, Settings* settings) {
   const size_t eq = a.find('=');
   const std::string key = a.substr(0, eq), value = eq == std::string::npos ? "" : a.substr(eq + 1);
-  ttz::lap::IndirectOptions* indirect = &settings->indirect;
-  if (key == "indirect.window_m") indirect->window_m = Number(value, key);
-  else if (key == "indirect.window_overlap_m") indirect->window_overlap_m = Number(value, key);
-  else if (key == "indirect.window_min_m") indirect->window_min_m = Number(value, key);
-  else if (key == "indirect.window_eps_end") indirect->window_eps_end = Number(value, key);
-  else if (key == "indirect.eps_end") indirect->eps_end = Number(value, key);
-  else if (key == "indirect.num_threads") indirect->num_threads = static_cast<int>(Number(value, key));
-  else if (key == "indirect.max_iterations") indirect->max_iterations = static_cast<int>(Number(value, key));
-  else if (key == "indirect.path_tolerance") indirect->path_tolerance = Number(value, key);
-  else if (key == "indirect.corrector_iterations")
-    indirect->corrector_iterations = static_cast<int>(Number(value, key));
-  else if (key == "indirect.homotopy") indirect->homotopy = Number(value, key) != 0.0;
-  else if (key.rfind("indirect.", 0) == 0)
-    throw std::invalid_argument(key + ": not an option of lap_bench (indirect.window_m, "
-                                      "indirect.window_overlap_m, indirect.window_min_m, indirect.window_eps_end, "
-                                      "indirect.eps_end, indirect.num_threads, indirect.max_iterations, indirect.path_tolerance, "
-                                      "indirect.corrector_iterations, indirect.homotopy)");
+  if (key.rfind("indirect.", 0) == 0) SetIndirect(key, key.substr(9), value, &settings->indirect);
   else if (key.rfind("ipopt.", 0) == 0 && eq != std::string::npos) settings->ipopt.extra.emplace_back(key.substr(6), value);
   else if (key == "guess" && (value == "centre-line" || value == "racing-line")) settings->racing_line = value == "racing-line";
   else if (key == "guess") throw std::invalid_argument("guess: '" + value + "', expected centre-line or racing-line");
