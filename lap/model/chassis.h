@@ -87,29 +87,34 @@ Equations<T> NewtonEuler(const Vehicle& v, const StateVector<T>& x, const Kinema
 
 // Solves the affine equations e(a) = 0 for the accelerations a: Gaussian elimination with partial
 // pivoting on the values (Eigen's LU does not accept nested Jets), skipping the coefficients that
-// are structurally zero (Affine::used).
+// are structurally zero (Affine::used), which are never read (nor, for HyperDual, set).
 template <typename T>
 std::array<T, kNumAccels> SolveAccelerations(const Equations<T>& e) {
   constexpr int n = kNumAccels;
-  std::array<std::array<T, n + 1>, n> m;  // [A | b]
-  std::array<unsigned, n> nz;             // bit j of nz[i]: m[i][j] may be non-zero
+  using Row = std::array<T, n + 1>;  // [A | b]
+  std::array<Row, n> m = ArrayOf([] { return UnsetArray<T, n + 1>(); }, std::make_index_sequence<n>{});
+  std::array<unsigned, n> nz;  // bit j of nz[i]: m[i][j] may be non-zero (and is set)
   for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j) m[i][j] = e[i].a[j];
+    for (int j = 0; j < n; ++j)
+      if (e[i].Uses(j)) m[i][j] = e[i].a[j];
     m[i][n] = -e[i].c;
     nz[i] = e[i].used | (1u << n);
   }
   auto may_be_non_zero = [&](int i, int j) { return (nz[i] >> j) & 1u; };
+  auto value = [&](int i, int j) { return may_be_non_zero(i, j) ? std::abs(Val(m[i][j])) : 0.0; };
   for (int col = 0; col < n; ++col) {
     int pivot = col;
     for (int i = col + 1; i < n; ++i)
-      if (std::abs(Val(m[i][col])) > std::abs(Val(m[pivot][col]))) pivot = i;
+      if (value(i, col) > value(pivot, col)) pivot = i;
     std::swap(m[col], m[pivot]);
     std::swap(nz[col], nz[pivot]);
     for (int i = col + 1; i < n; ++i) {
       if (!may_be_non_zero(i, col)) continue;
       const T factor = m[i][col] / m[col][col];
-      for (int j = col + 1; j <= n; ++j)
-        if (may_be_non_zero(col, j)) m[i][j] = m[i][j] - factor * m[col][j];
+      for (int j = col + 1; j <= n; ++j) {
+        if (!may_be_non_zero(col, j)) continue;
+        m[i][j] = may_be_non_zero(i, j) ? m[i][j] - factor * m[col][j] : -(factor * m[col][j]);
+      }
       nz[i] |= nz[col];
     }
   }

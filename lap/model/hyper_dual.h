@@ -221,6 +221,7 @@ template <int N>
 struct ScalarTraits<HyperDual<N>> {
   static HyperDual<N> Constant(double x) { return HyperDual<N>(x); }
   static double Value(const HyperDual<N>& x) { return x.a; }
+  static HyperDual<N> Unset() { return HyperDual<N>(typename HyperDual<N>::Uninitialised{}); }
 };
 
 }  // namespace ttz::lap

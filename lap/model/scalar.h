@@ -49,16 +49,20 @@ inline Jet<Jet<U, N>, M> operator/(double s, const Jet<Jet<U, N>, M>& f) {
 
 namespace ttz::lap {
 
+// Unset(): a T whose value is never read before it is assigned (zero where that costs nothing;
+// HyperDual leaves its parts unset, lap/model/hyper_dual.h).
 template <typename T>
 struct ScalarTraits {
   static T Constant(double x) { return T(x); }
   static double Value(const T& x) { return static_cast<double>(x); }
+  static T Unset() { return T(0.0); }
 };
 
 template <typename U, int N>
 struct ScalarTraits<ceres::Jet<U, N>> {
   static ceres::Jet<U, N> Constant(double x) { return ceres::Jet<U, N>(ScalarTraits<U>::Constant(x)); }
   static double Value(const ceres::Jet<U, N>& x) { return ScalarTraits<U>::Value(x.a); }
+  static ceres::Jet<U, N> Unset() { return ceres::Jet<U, N>(); }
 };
 
 // The constant x as a T (derivative parts zero).

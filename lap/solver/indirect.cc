@@ -113,16 +113,13 @@ bool TraceCurve(const IndirectOptions& options, Transcription* tr, ceres::Proble
   return end == PathEnd::kReached;
 }
 
-// The first step at eps from a start near its solution (IndirectOptions::homotopy) by Newton's
-// homotopy (NewtonHomotopy) from t = 0 to 1; true when it reached F = 0 to residual_tolerance.
-// Otherwise (a turning point in t, a failed step, the iterations of max_iterations spent) the
-// unknowns and the controls' Newton starts are back at the start. `iterations`: Newton's.
-bool FirstStepByHomotopy(const IndirectOptions& options, Transcription* tr, ceres::Problem* problem,
-                         double eps, int* iterations) {
-  CurveSystem sys(tr, problem);
-  NewtonHomotopy homotopy(&sys, eps);
-  *iterations = 0;
-  if (!homotopy.Start()) return false;
+// Follows `family` (its parameter `name` in the log) from its solution in `tr` at p = 0 to p = 1,
+// where it is F = 0 at eps, to residual_tolerance; true when it got there. Otherwise (a turning
+// point in p, a failed step, the iterations of max_iterations spent) the unknowns and the
+// controls' Newton starts are back at the start. `iterations`: Newton's.
+bool FollowFromStart(const IndirectOptions& options, CurveSystem* sys, PathFamily* family,
+                     const char* name, int* iterations) {
+  Transcription* tr = sys->transcription();
   const std::vector<double> w0 = tr->w;
   const std::vector<NodeData> mids0 = tr->mids;
   PathSettings settings;
@@ -135,21 +132,48 @@ bool FirstStepByHomotopy(const IndirectOptions& options, Transcription* tr, cere
   const auto report = [&](const PathPoint& point) {
     *iterations += point.iterations;
     std::ostringstream o;
-    o << "homotopy t " << point.p << ": " << (point.converged ? "converged" : "FAILED") << " in "
+    o << name << " " << point.p << ": " << (point.converged ? "converged" : "FAILED") << " in "
       << point.iterations << " iterations, " << point.seconds << " s, max residual "
       << point.max_residual;
     Log(LogKind::kInfo, o.str());
   };
   Eigen::VectorXd turn;
-  const PathEnd end = FollowPath(&sys, &homotopy, 0.0, settings, report, &turn);
+  const PathEnd end = FollowPath(sys, family, 0.0, settings, report, &turn);
   if (end == PathEnd::kReached) return true;
-  Log(LogKind::kInfo, end == PathEnd::kTurned
-                          ? "homotopy: turning point in t; Levenberg-Marquardt from the start"
-                          : "homotopy failed; Levenberg-Marquardt from the start");
+  Log(LogKind::kInfo, std::string(name) +
+                          (end == PathEnd::kTurned ? ": a turning point" : ": failed") +
+                          "; back to its start");
   tr->w = w0;
   tr->mids = mids0;
   tr->KeepControlsAsStarts();
   return false;
+}
+
+// The first step at eps from a start near its solution (IndirectOptions::homotopy) by Newton's
+// homotopy (NewtonHomotopy) from t = 0 to 1 (FollowFromStart); true when it reached F = 0, or when
+// the start solves F already.
+bool FirstStepByHomotopy(const IndirectOptions& options, Transcription* tr, ceres::Problem* problem,
+                         double eps, int* iterations) {
+  CurveSystem sys(tr, problem);
+  NewtonHomotopy homotopy(&sys, eps);
+  *iterations = 0;
+  if (!homotopy.Start()) return false;
+  if (homotopy.r0().lpNorm<Eigen::Infinity>() <= 10.0 * options.residual_tolerance) return true;
+  return FollowFromStart(options, &sys, &homotopy, "homotopy t", iterations);
+}
+
+// The node barriers switched on at eps (the weight of the midpoints' solution in `tr`) by the
+// continuation in their share of eps (NodeBarrierPath) from 0 to 1; true when it got there, else
+// the unknowns are back at the midpoints' solution. Either way the share is 1 after it.
+bool SwitchOnNodeBarriers(const IndirectOptions& options, Transcription* tr,
+                          ceres::Problem* problem, double eps, int* iterations) {
+  CurveSystem sys(tr, problem);
+  NodeBarrierPath path(&sys, eps);
+  *iterations = 0;
+  tr->node_share = 0.0;
+  const bool reached = FollowFromStart(options, &sys, &path, "node barriers' share", iterations);
+  tr->node_share = 1.0;
+  return reached;
 }
 
 // The barrier continuation: solve at eps, shrink eps by the factor after a converged step, go
@@ -339,6 +363,10 @@ Continuation SolveFrom(const IndirectOptions& options, bool from_guess, Transcri
     const Continuation first = RunContinuation(midpoints, tr, problem, summary);
     tr->node_barriers = true;
     if (first.good.empty()) return first;
+    int iterations = 0;
+    if (options.node_share_path)
+      SwitchOnNodeBarriers(options, tr, problem, first.good.back().eps, &iterations);
+    summary->iterations += iterations;
   }
   return RunContinuation(options, tr, problem, summary);
 }

@@ -40,6 +40,33 @@ TEST(IndirectTest, StraightLevelRoadFromAStandingStart) {
   EXPECT_LT(sol.x.back()[kE], sol.x.front()[kE]);  // the pack discharges
 }
 
+// From the QSS guess the first solve is of the midpoints' barriers alone, and the node barriers
+// are then switched on by the continuation in their share of eps (IndirectOptions::
+// node_share_path): the first step with them starts at its solution and takes no iteration of its
+// own, and the lap is the one the first step reaches from the midpoints' solution without it (the
+// same discrete problem).
+TEST(IndirectTest, NodeBarriersSwitchedOnByTheirShareEndOnTheSameLap) {
+  const Vehicle v = Bx15();
+  const MeshedRoad p(v, StraightRoad(300.0), 2.0);
+  const auto solve = [&](bool node_share_path, SolveSummary* summary) {
+    IndirectOptions options;
+    options.node_share_path = node_share_path;
+    const LapSolution sol = SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, options, summary);
+    EXPECT_TRUE(summary->converged) << summary->message;
+    EXPECT_GE(summary->steps.size(), 2u);
+    return sol;
+  };
+  SolveSummary by_share, without;
+  const LapSolution a = solve(true, &by_share);
+  const LapSolution b = solve(false, &without);
+  // steps[0]: the midpoints' first solve; steps[1]: the first step with the node barriers
+  EXPECT_EQ(by_share.steps[1].eps, by_share.steps[0].eps);
+  EXPECT_EQ(by_share.steps[1].iterations, 0);
+  EXPECT_GT(without.steps[1].iterations, 0);
+  EXPECT_NEAR(a.lap_time, b.lap_time, 1e-7 * b.lap_time);
+  EXPECT_NEAR(a.lap_time_extrapolated, b.lap_time_extrapolated, 1e-7 * b.lap_time);
+}
+
 // A first step that fails at eps_start is solved again from the guess at retry_eps_start (the
 // 5 km roads need it, docs/lap.md), a window of the first step at 10 eps_start and then at half
 // its length; here one Ceres iteration per step makes every step fail.

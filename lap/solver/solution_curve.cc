@@ -113,6 +113,20 @@ bool NewtonHomotopy::Evaluate(double t, Eigen::VectorXd* G, Eigen::SparseMatrix<
   return true;
 }
 
+bool NodeBarrierPath::Evaluate(double theta, Eigen::VectorXd* G, Eigen::SparseMatrix<double>* J,
+                               Eigen::VectorXd* Gp) {
+  Eigen::VectorXd G1;
+  constexpr double h = 1e-6;
+  if (Gp != nullptr) {  // first, so that the midpoints' data are theta's when it returns
+    Select(theta + h);
+    if (!sys_->Evaluate(eps_, &G1, nullptr, nullptr)) return false;
+  }
+  Select(theta);
+  if (!sys_->Evaluate(eps_, G, J, nullptr)) return false;
+  if (Gp != nullptr) *Gp = (G1 - *G) / h;
+  return Gp == nullptr || Gp->allFinite();
+}
+
 namespace {
 
 // Newton corrector of a step of length ds from the predictor `yp` (tangent t): max |G| <= tol and on the
@@ -180,6 +194,7 @@ PathEnd FollowPath(CurveSystem* sys, PathFamily* family, double p0, const PathSe
     Eigen::VectorXd z, tn;
     if (point.last) {
       sys->Set(yp.head(n));
+      family->Select(settings.p_end);
       point.converged = NewtonAtFixedEps(sys, family->Eps(settings.p_end), settings.final_tolerance,
                                          12, &point.max_residual, &point.iterations);
     } else {

@@ -63,6 +63,9 @@ class PathFamily {
   virtual bool Evaluate(double p, Eigen::VectorXd* G, Eigen::SparseMatrix<double>* J,
                         Eigen::VectorXd* Gp) = 0;
   virtual double Eps(double p) const = 0;  // the barrier weight at p
+  // Makes the member at p the system F that NewtonAtFixedEps(Eps(p)) solves (FollowPath's last
+  // step), where that is not eps alone.
+  virtual void Select(double p) {}
 };
 
 // The barrier continuation: p = log eps, G = F(v; e^p).
@@ -92,6 +95,22 @@ class NewtonHomotopy : public PathFamily {
   CurveSystem* sys_;
   double eps_;
   Eigen::VectorXd r0_;
+};
+
+// The node barriers switched on at a fixed eps: p = theta, their share of eps
+// (Transcription::node_share), from the midpoints' barriers alone (0) to the answer's split (1);
+// G = F(v; eps, theta), dG/dtheta by a forward difference.
+class NodeBarrierPath : public PathFamily {
+ public:
+  NodeBarrierPath(CurveSystem* sys, double eps) : sys_(sys), eps_(eps) {}
+  bool Evaluate(double theta, Eigen::VectorXd* G, Eigen::SparseMatrix<double>* J,
+                Eigen::VectorXd* Gp) final;
+  double Eps(double) const final { return eps_; }
+  void Select(double theta) final { sys_->transcription()->node_share = theta; }
+
+ private:
+  CurveSystem* sys_;
+  double eps_;
 };
 
 struct PathSettings {

@@ -13,7 +13,19 @@ namespace {
 // k + 1), so an LU in that natural order keeps its fill inside the band. Measured on the whole
 // course's 20 m mesh (161,252 unknowns, docs/lap.md): Eigen's SparseLU in natural order factorises
 // in 0.24 s and solves in 0.013 s, UMFPACK (its default ordering) in 0.93 s and 0.17 s.
-using BandedLU = Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::NaturalOrdering<int>>;
+//
+// Eigen's SparseLU reserves, before it factorises, `fillfactor` (20) times nnz(J) for each of the
+// factors' values and indices: on the whole course 3.4 GB of address space, of which the factors
+// use a small part (nnz(L) + nnz(U) = 1.27 nnz(J) on a 3 km window), freed after every solve.
+// That free block lifted the heap's free top above malloc's trim threshold (2 GB, the most
+// mallopt takes: common/memory.h), so the heap was given back to the system after every
+// factorisation and every large block of the next Newton iteration was faulted in again (docs/lap.md
+// "The LU's reservation"). Three times nnz(J) leaves room; SparseLU grows its arrays when the
+// factors need more.
+class BandedLU : public Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::NaturalOrdering<int>> {
+ public:
+  BandedLU() { m_perfv.fillfactor = 3; }
+};
 // The bordered matrix, whose dense last row and column need a fill-reducing ordering: UMFPACK
 // (on the 300 m bend road of oracle_test a 5-iteration corrector on it took 0.49 s with UMFPACK,
 // 1.18 s with Eigen's SparseLU and 4.0 s with KLU; SparseLU in natural order ran out of 24 GB on

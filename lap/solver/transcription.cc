@@ -14,12 +14,12 @@ double Transcription::NodeLength(int k) const {
 
 void Transcription::EvaluateMids(bool jacobians) {
   const int n = NumNodes() - 1;
-  const BarrierWeight split = SplitWeight();
+  const BarrierWeight mid_weight = MidpointWeight(), node_weight = NodeWeight();
   if (node_barriers)
     ForEachInterval(n, threads, [&](int k) {
       StateVector<double> xs;
       std::copy(W(k + 1), W(k + 1) + kNumStates, xs.begin());
-      EvaluateNodeBarrier(*v, sc, road_nodes[k + 1], split, NodeLength(k + 1), xs, jacobians,
+      EvaluateNodeBarrier(*v, sc, road_nodes[k + 1], node_weight, NodeLength(k + 1), xs, jacobians,
                           &nodes[k + 1]);
       return true;  // validity is read from the nodes below
     });
@@ -31,7 +31,7 @@ void Transcription::EvaluateMids(bool jacobians) {
       if (node_barriers)
         mu[i] += 0.5 * (RightShare(k) * nodes[k + 1].grad(i) - LeftShare(k) * nodes[k].grad(i));
     }
-    EvaluateNode(*v, sc, road[k], split, xs, mu, jacobians, &mids[k]);
+    EvaluateNode(*v, sc, road[k], mid_weight, xs, mu, jacobians, &mids[k]);
     return true;  // validity is read from the midpoints below
   });
   all_valid = std::all_of(mids.begin(), mids.end(), [](const NodeData& d) { return d.valid; }) &&

@@ -55,12 +55,17 @@ struct Transcription {
   double* W(int k) { return w.data() + k * kW; }
   const double* W(int k) const { return w.data() + k * kW; }
   double H(int k) const { return s[k + 1] - s[k]; }
-  // The weight of the midpoints' barriers, and of the nodes': with node barriers each takes
-  // half of eps, so that switching them on leaves the barrier's total about the same (the
-  // midpoint and the trapezoidal rule of the same integral, averaged).
-  BarrierWeight SplitWeight() const {
-    return node_barriers ? BarrierWeight{0.5 * weight.eps, weight.delta} : weight;
+  // The node barriers' share theta of eps (with node barriers on): the midpoints' barriers weigh
+  // (1 - theta / 2) eps and the nodes' theta eps / 2. At theta = 1, the answer's, each takes half
+  // of eps, so that switching them on leaves the barrier's total about the same (the midpoint and
+  // the trapezoidal rule of the same integral, averaged); the first step from a guess switches
+  // them on by a continuation in theta from 0 (indirect.cc, NodeBarrierPath).
+  double node_share = 1.0;
+  BarrierWeight MidpointWeight() const {
+    return node_barriers ? BarrierWeight{(1.0 - 0.5 * node_share) * weight.eps, weight.delta}
+                         : weight;
   }
+  BarrierWeight NodeWeight() const { return {0.5 * node_share * weight.eps, weight.delta}; }
   // Shares a_k and b_k of interval k in the barriers of its left and right nodes (above).
   // l_k [m]: the length of road node k stands for (half of each neighbouring interval).
   double NodeLength(int k) const;

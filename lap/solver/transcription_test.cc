@@ -22,18 +22,30 @@ std::array<double, kW> Residual(Transcription* tr, int k) {
   return r;
 }
 
-TEST(TranscriptionTest, IntervalJacobiansMatchCentralDifferences) {
-  const Vehicle v = testing::Bx15();
-  const testing::MeshedRoad p(v,
-                              testing::SyntheticRoad(
-                                  60.0, 8.0, [](double s) { return s > 20.0 ? 0.02 : 0.0; },
-                                  [](double) { return 0.03; }),
-                              2.0);
+// 60 m climbing at 3 % into a 50 m radius bend from 20 m, on a 2 m mesh.
+testing::MeshedRoad BendOnAClimb(const Vehicle& v) {
+  return testing::MeshedRoad(
+      v,
+      testing::SyntheticRoad(60.0, 8.0, [](double s) { return s > 20.0 ? 0.02 : 0.0; },
+                             [](double) { return 0.03; }),
+      2.0);
+}
+
+// Its transcription at eps 0.1 from the QSS states, with costates that vary along the road and
+// between the states.
+Transcription TranscriptionOf(const Vehicle& v, const testing::MeshedRoad& p) {
   std::vector<StateVector<double>> lambda(p.mesh.size());
   for (size_t k = 0; k < p.mesh.size(); ++k)
     for (int i = 0; i < kNumStates; ++i) lambda[k][i] = 0.01 * std::sin(1.0 + k + 3.0 * i);
   Transcription tr = MakeTranscription(v, p.road, p.mesh, p.qss.x, lambda, p.qss.u, 1);
   tr.weight = {0.1, 1e-3};
+  return tr;
+}
+
+TEST(TranscriptionTest, IntervalJacobiansMatchCentralDifferences) {
+  const Vehicle v = testing::Bx15();
+  const testing::MeshedRoad p = BendOnAClimb(v);
+  Transcription tr = TranscriptionOf(v, p);
   for (int k : {0, 12, 28, 29}) {  // 29: the last interval, with all of node N's barrier
     tr.EvaluateMids(true);
     ASSERT_TRUE(tr.all_valid);
@@ -61,6 +73,37 @@ TEST(TranscriptionTest, IntervalJacobiansMatchCentralDifferences) {
         }
       }
   }
+}
+
+// The node barriers' share theta of eps (Transcription::node_share): at 0 the system is the one
+// without node barriers (the midpoints' barriers weigh eps and the nodes' nothing), the start of
+// the continuation that switches them on (NodeBarrierPath); in between it differs from both.
+TEST(TranscriptionTest, NodeBarriersWithoutAShareLeaveTheMidpointsSystem) {
+  const Vehicle v = testing::Bx15();
+  const testing::MeshedRoad p = BendOnAClimb(v);
+  Transcription tr = TranscriptionOf(v, p);
+  const auto residuals = [&](bool node_barriers, double share) {
+    tr.node_barriers = node_barriers;
+    tr.node_share = share;
+    tr.EvaluateMids(false);
+    EXPECT_TRUE(tr.all_valid);
+    std::vector<double> r;
+    for (int k = 0; k + 1 < tr.NumNodes(); ++k) {
+      const std::array<double, kW> rk = Residual(&tr, k);
+      r.insert(r.end(), rk.begin(), rk.end());
+    }
+    return r;
+  };
+  const std::vector<double> midpoints = residuals(false, 1.0), none = residuals(true, 0.0),
+                            half = residuals(true, 0.5), full = residuals(true, 1.0);
+  double most = 0.0, half_off = 0.0;
+  for (size_t i = 0; i < midpoints.size(); ++i) {
+    EXPECT_NEAR(none[i], midpoints[i], 1e-12 * (1.0 + std::abs(midpoints[i]))) << i;
+    most = std::max(most, std::abs(full[i] - midpoints[i]));
+    half_off = std::max(half_off, std::abs(half[i] - full[i]));
+  }
+  EXPECT_GT(most, 1e-6);      // the node barriers matter here
+  EXPECT_GT(half_off, 1e-6);  // and half of them is not all of them
 }
 
 // The solver's failure messages name where the largest residual sits (ResidualPeak): the
