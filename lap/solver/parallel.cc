@@ -1,6 +1,7 @@
 #include "lap/solver/parallel.h"
 
 #include <condition_variable>
+#include <exception>
 #include <mutex>
 #include <thread>
 
@@ -34,9 +35,15 @@ class WorkerPool {
       ++job_;
     }
     start_.notify_all();
-    work(0);
+    std::exception_ptr failure;  // part 0's, rethrown once the workers are done with `work`
+    try {
+      work(0);
+    } catch (...) {
+      failure = std::current_exception();
+    }
     std::unique_lock<std::mutex> lock(m_);
     done_.wait(lock, [&] { return pending_ == 0; });
+    if (failure) std::rethrow_exception(failure);
   }
 
  private:

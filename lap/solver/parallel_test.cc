@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
@@ -31,6 +32,21 @@ TEST(ParallelTest, APartStopsAtItsFirstFalse) {
     return k != 10;  // in the first half
   }));
   for (int k = 0; k < 100; ++k) EXPECT_EQ(visits[k].load(), k <= 10 || k >= 50 ? 1 : 0) << k;
+}
+
+// An exception in the calling thread's part reaches the caller once the other parts are done, and
+// the workers serve the next call.
+TEST(ParallelTest, AnExceptionInTheCallersPartReachesTheCaller) {
+  std::atomic<int> second_half{0};
+  EXPECT_THROW(ForEachInterval(100, 2,
+                               [&](int k) {
+                                 if (k == 0) throw std::runtime_error("part 0");
+                                 second_half += k >= 50;
+                                 return true;
+                               }),
+               std::runtime_error);
+  EXPECT_EQ(second_half.load(), 50);
+  EXPECT_TRUE(ForEachInterval(10, 2, [](int) { return true; }));
 }
 
 TEST(ParallelTest, CallersOnTwoThreadsTakeTurns) {
