@@ -1,7 +1,8 @@
 // Curves of solutions of the indirect solver's square system F(v; eps) = 0 (indirect.cc), followed
 // by pseudo-arclength steps with Newton correctors on sparse LU (sparse_lu.h): the barrier
-// continuation in (v, log eps) and the Newton homotopy H(v, t) = F(v) - (1 - t) F(v0) at a fixed
-// eps, which takes a start v0 near a solution to it where Levenberg-Marquardt creeps (docs/lap.md).
+// continuation in (v, log eps), the Newton homotopy H(v, t) = F(v) - (1 - t) F(v0) at a fixed
+// eps, which takes a start v0 near a solution to it where Levenberg-Marquardt creeps, and the node
+// barriers' share of a fixed eps, from the midpoints' barriers alone to the answer's (docs/lap.md).
 #pragma once
 
 #include <functional>
