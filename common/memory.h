@@ -9,7 +9,9 @@
 namespace ttz {
 
 // Makes malloc serve every block from its heap (no mmap) and keep freed memory there for reuse
-// (trim threshold INT_MAX); call once at the start of main(). The price is a higher peak resident
+// (trim threshold INT_MAX, about 2 GB, the most mallopt takes: a free heap top above that is
+// still given back, so a solver must not reserve far more than it uses, lap/solver/sparse_lu.cc);
+// call once at the start of main(). The price is a higher peak resident
 // size: the heap keeps what a freed block leaves between live ones.
 void KeepFreedMemory();
 

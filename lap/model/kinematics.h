@@ -8,8 +8,6 @@
 
 #include <array>
 #include <cmath>
-#include <type_traits>
-#include <utility>
 
 #include "lap/model/road_point.h"
 #include "lap/model/scalar.h"
@@ -19,17 +17,6 @@ namespace ttz::lap {
 
 // The accelerations of eq. 13-16, the unknowns of the linear system A a = b.
 enum AccelIndex : int { kVdot = 0, kBetadot, kZddot, kPhiddot, kOmegaWdot, kNumAccels };
-
-// {make(), make(), ...}: one value per index, each built in place.
-template <typename F, std::size_t... I>
-std::array<std::invoke_result_t<F>, sizeof...(I)> ArrayOf(const F& make, std::index_sequence<I...>) {
-  return {((void)I, make())...};
-}
-// n Unset() values (scalar.h).
-template <typename T, std::size_t n>
-std::array<T, n> UnsetArray() {
-  return ArrayOf(ScalarTraits<T>::Unset, std::make_index_sequence<n>{});
-}
 
 // c + sum_j a[j] * acc_j. `used` marks the coefficients that may be non-zero: most are zero
 // (dv_x is acc_0 alone), and the operators skip those, which matters with nested Jets, where a

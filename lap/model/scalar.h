@@ -8,6 +8,10 @@
 
 #include <ceres/jet.h>
 
+#include <array>
+#include <type_traits>
+#include <utility>
+
 namespace ceres {
 
 #define TTZ_NESTED_JET_OP(OP)                                                                  \
@@ -64,6 +68,17 @@ struct ScalarTraits<ceres::Jet<U, N>> {
   static double Value(const ceres::Jet<U, N>& x) { return ScalarTraits<U>::Value(x.a); }
   static ceres::Jet<U, N> Unset() { return ceres::Jet<U, N>(); }
 };
+
+// {make(), make(), ...}: one value per index, each built in place.
+template <typename F, std::size_t... I>
+std::array<std::invoke_result_t<F>, sizeof...(I)> ArrayOf(const F& make, std::index_sequence<I...>) {
+  return {((void)I, make())...};
+}
+// n Unset() values.
+template <typename T, std::size_t n>
+std::array<T, n> UnsetArray() {
+  return ArrayOf(ScalarTraits<T>::Unset, std::make_index_sequence<n>{});
+}
 
 // The constant x as a T (derivative parts zero).
 template <typename T>
