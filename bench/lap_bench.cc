@@ -91,6 +91,9 @@ constexpr IndirectKey kIndirectKeys[] = {
     {"corrector_iterations",
      [](ttz::lap::IndirectOptions* o, double x) { o->corrector_iterations = static_cast<int>(x); }},
     {"homotopy", [](ttz::lap::IndirectOptions* o, double x) { o->homotopy = x != 0.0; }},
+    {"homotopy_handoff", [](ttz::lap::IndirectOptions* o, double x) { o->homotopy_handoff = x; }},
+    {"window_homotopy_handoff",
+     [](ttz::lap::IndirectOptions* o, double x) { o->window_homotopy_handoff = x; }},
     {"node_share_path", [](ttz::lap::IndirectOptions* o, double x) { o->node_share_path = x != 0.0; }},
     {"verbose", [](ttz::lap::IndirectOptions* o, double x) { o->verbose = x != 0.0; }},
 };

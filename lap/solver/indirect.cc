@@ -24,6 +24,7 @@ namespace {
 class StopAtTolerance : public ceres::IterationCallback {
  public:
   explicit StopAtTolerance(double tol) : tol_(tol) {}
+  double tolerance() const { return tol_; }
   void set_tolerance(double tol) { tol_ = tol; }
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) final {
     return std::sqrt(2.0 * s.cost) <= tol_ ? ceres::SOLVER_TERMINATE_SUCCESSFULLY
@@ -162,6 +163,44 @@ bool FirstStepByHomotopy(const IndirectOptions& options, Transcription* tr, cere
   return FollowFromStart(options, &sys, &homotopy, "homotopy t", iterations);
 }
 
+// The first step's solve at eps to the tolerance of `stop`; its iterations, Levenberg-Marquardt's
+// and Newton's, and in `cs` LM's last summary (empty when it did not run). Newton's homotopy
+// (FirstStepByHomotopy) starts at a start near its solution (node barriers on) and, from a guess,
+// where LM first has ||F|| <= IndirectOptions::homotopy_handoff; where it fails LM goes on from
+// the homotopy's start (where LM stopped, with its trust-region radius).
+int SolveFirstStep(const IndirectOptions& options, double eps, Transcription* tr,
+                   ceres::Problem* problem, const ceres::Solver::Options& so,
+                   StopAtTolerance* stop, ceres::Solver::Summary* cs) {
+  int iterations = 0;
+  ceres::Solver::Options lm = so;  // LM goes on where it stopped, within so.max_num_iterations
+  bool near = tr->node_barriers;
+  if (options.homotopy && !near && options.homotopy_handoff > 0.0) {
+    const double tolerance = stop->tolerance();
+    stop->set_tolerance(options.homotopy_handoff);
+    ceres::Solve(lm, problem, cs);
+    stop->set_tolerance(tolerance);
+    iterations = static_cast<int>(cs->iterations.size());
+    lm.max_num_iterations = std::max(1, so.max_num_iterations - iterations);
+    if (!cs->iterations.empty())
+      lm.initial_trust_region_radius = cs->iterations.back().trust_region_radius;
+    near = std::sqrt(2.0 * cs->final_cost) <= options.homotopy_handoff;
+    if (!near) return iterations;  // LM stopped short of the handoff: its answer stands
+    std::ostringstream o;
+    o << "Levenberg-Marquardt at ||F|| " << std::sqrt(2.0 * cs->final_cost) << " after "
+      << iterations << " iterations: Newton's homotopy from there";
+    Log(LogKind::kInfo, o.str());
+  }
+  if (options.homotopy && near) {
+    int homotopy_iterations = 0;
+    const bool reached = FirstStepByHomotopy(options, tr, problem, eps, &homotopy_iterations);
+    iterations += homotopy_iterations;
+    *cs = ceres::Solver::Summary();
+    if (reached) return iterations;
+  }
+  ceres::Solve(lm, problem, cs);
+  return iterations + static_cast<int>(cs->iterations.size());
+}
+
 // The node barriers switched on at eps (the weight of the midpoints' solution in `tr`) by the
 // continuation in their share of eps (NodeBarrierPath) from 0 to 1; true when it got there, else
 // the unknowns are back at the midpoints' solution. Either way the share is 1 after it.
@@ -209,16 +248,19 @@ Continuation RunContinuation(const IndirectOptions& options, Transcription* tr,
     so.initial_trust_region_radius = first ? 1e4 : 1e12;
     ceres::Solver::Summary cs;
     const auto t0 = std::chrono::steady_clock::now();
-    int homotopy_iterations = 0;
-    if (!(first && options.homotopy && tr->node_barriers &&
-          FirstStepByHomotopy(options, tr, problem, eps, &homotopy_iterations)))
+    int iterations = 0;
+    if (first) {
+      iterations = SolveFirstStep(options, eps, tr, problem, so, &stop, &cs);
+    } else {
       ceres::Solve(so, problem, &cs);
+      iterations = static_cast<int>(cs.iterations.size());
+    }
     double max_all, max_state;
     ResidualPeak peak;
     ResidualLevels(tr, &max_all, &max_state, &peak);
     ContinuationStep step;
     step.eps = eps;
-    step.iterations = homotopy_iterations + static_cast<int>(cs.iterations.size());
+    step.iterations = iterations;
     step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     step.converged = tr->all_valid && max_all <= 10.0 * tolerance;
     step.lap_time = tr->all_valid ? tr->LapTime() : 0.0;
@@ -427,6 +469,7 @@ bool SolveFirstStepInWindows(const Vehicle& v, const RoadTrack& road,
   window.window_m = 0.0;
   window.eps_end = WindowsEpsEnd(options);
   window.retry_eps_start = 0.0;
+  window.homotopy_handoff = options.window_homotopy_handoff;
   std::vector<WindowJunction> junctions;
   double length = options.window_m;
   for (int a = 0;;) {

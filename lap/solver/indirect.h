@@ -63,10 +63,20 @@ struct IndirectOptions {
   // max_iterations Newton iterations Levenberg-Marquardt takes over from v0. On the TT course
   // (20 m) the whole road's first step from its stitched windows took 40 Newton iterations, 43 s,
   // against Levenberg-Marquardt's 248, 254 s (docs/lap.md, session 34). From the QSS guess
-  // (midpoints only) it is not used: there it turned or crept (10 km of the course: 17,702
-  // iterations in all against 1,610).
+  // itself it turned or crept (10 km of the course: 17,702 iterations in all against 1,610);
+  // from a guess it starts where LM got near (homotopy_handoff).
   bool homotopy = true;
   double homotopy_tolerance = 1e-5;  // max |H| at the homotopy's points before t = 1
+  // From a guess Levenberg-Marquardt's first solve hands over to Newton's homotopy (above, with
+  // homotopy on) where it first reaches ||F||_2 <= homotopy_handoff (0: never); where the
+  // homotopy fails LM goes on from there. LM brings the QSS guess near the solution in 10-75
+  // iterations and then often spends 100 and more wandering (its non-monotonic steps) and in a
+  // slow tail (trust-region ratio ~0.75, the radius growing ~1.2x an iteration), a count that is
+  // chaotic in its start. Off on whole roads: on the 5 km roads at 5 m the homotopy from there
+  // crept (steps of ~0.01 in t) or turned, the first 5 km of the TT course took 964 iterations
+  // against 668 and its calibrated bike did not converge (docs/lap.md "Levenberg-Marquardt
+  // handing over to Newton's homotopy"). The windows use window_homotopy_handoff.
+  double homotopy_handoff = 0.0;
   // From a guess without costates the first solve is of the midpoints' barriers alone
   // (SolveFrom, indirect.cc); the node barriers are then switched on at the same weight by
   // pseudo-arclength steps in their share of eps, from 0 to 1 (NodeBarrierPath,
@@ -93,6 +103,11 @@ struct IndirectOptions {
   // throws std::invalid_argument.
   double window_m = 0.0;
   double window_overlap_m = 1000.0;
+  // The windows' homotopy_handoff. On the TT course (20 m, at most 0.5 s, 3 km windows) the first
+  // 10 km took 788 iterations, 47.5 s, against 1,350, 69.4 s without (0.3: 741, 45.2 s; 3: 851,
+  // 48.2 s; 10: 1,026, 57.8 s; 1 was the first value tried), the whole course 454.0 s against
+  // 556.0 s (5,825 iterations against 7,991), the windows 244.1 s against 334.8 s.
+  double window_homotopy_handoff = 1.0;
   // The windows do not stop at the first step: each follows the continuation down to this weight
   // (clamped to [eps_end, the first step's weight]; at that weight: the first step alone), and
   // the whole road's continuation starts there by Newton's homotopy from their stitched answer.

@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <stdexcept>
+#include <string>
 
 #include "lap/testing/problem.h"
 #include "lap/testing/synthetic_road.h"
@@ -63,6 +65,40 @@ TEST(IndirectTest, NodeBarriersSwitchedOnByTheirShareEndOnTheSameLap) {
   EXPECT_EQ(by_share.steps[1].eps, by_share.steps[0].eps);
   EXPECT_EQ(by_share.steps[1].iterations, 0);
   EXPECT_GT(without.steps[1].iterations, 0);
+  EXPECT_NEAR(a.lap_time, b.lap_time, 1e-7 * b.lap_time);
+  EXPECT_NEAR(a.lap_time_extrapolated, b.lap_time_extrapolated, 1e-7 * b.lap_time);
+}
+
+// From the QSS guess Levenberg-Marquardt's first solve hands over to Newton's homotopy once it is
+// near (IndirectOptions::homotopy_handoff), and ends on the lap that LM alone reaches (the same
+// discrete problem).
+TEST(IndirectTest, LevenbergMarquardtHandingOverToNewtonsHomotopyEndsOnTheSameLap) {
+  const Vehicle v = Bx15();
+  // 200 m with a 50 m radius left bend from 80 to 140 m
+  const MeshedRoad p(v,
+                     testing::SyntheticRoad(
+                         200.0, 8.0, [](double s) { return s > 80.0 && s < 140.0 ? 0.02 : 0.0; },
+                         testing::Zero),
+                     2.0);
+  const auto solve = [&](double handoff, SolveSummary* summary, std::string* log) {
+    IndirectOptions options;
+    options.homotopy_handoff = handoff;
+    ::testing::internal::CaptureStderr();
+    const LapSolution sol = SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, options, summary);
+    *log = ::testing::internal::GetCapturedStderr();
+    EXPECT_TRUE(summary->converged) << summary->message;
+    std::cout << "handoff " << handoff << ": first solve " << summary->steps[0].iterations
+              << " iterations, in all " << summary->iterations << ", " << summary->solve_seconds
+              << " s\n";
+    return sol;
+  };
+  SolveSummary handed, lm;
+  std::string handed_log, lm_log;
+  const LapSolution a = solve(1.0, &handed, &handed_log);
+  const LapSolution b = solve(0.0, &lm, &lm_log);
+  EXPECT_NE(handed_log.find("Newton's homotopy from there"), std::string::npos) << handed_log;
+  EXPECT_EQ(lm_log.find("Newton's homotopy from there"), std::string::npos) << lm_log;
+  EXPECT_NE(handed.steps[0].iterations, lm.steps[0].iterations);
   EXPECT_NEAR(a.lap_time, b.lap_time, 1e-7 * b.lap_time);
   EXPECT_NEAR(a.lap_time_extrapolated, b.lap_time_extrapolated, 1e-7 * b.lap_time);
 }
