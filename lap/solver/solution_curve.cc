@@ -127,6 +127,11 @@ bool NodeBarrierPath::Evaluate(double theta, Eigen::VectorXd* G, Eigen::SparseMa
   return Gp == nullptr || Gp->allFinite();
 }
 
+bool CorrectorStalled(const std::vector<double>& max_residuals) {
+  const size_t k = max_residuals.size();
+  return k >= 3 && !(max_residuals[k - 1] < max_residuals[k - 3]);
+}
+
 namespace {
 
 // Newton corrector of a step of length ds from the predictor `yp` (tangent t): max |G| <= tol and on the
@@ -137,11 +142,13 @@ bool Correct(CurveSystem* sys, PathFamily* family, const Eigen::VectorXd& t,
   const int n = sys->size();
   Eigen::VectorXd G, Gp;
   Eigen::SparseMatrix<double> J;
+  std::vector<double> residuals;
   *z = yp;
   for (*its = 0; *its <= settings.corrector_iterations; ++*its) {
     sys->Set(z->head(n));
     if (!family->Evaluate((*z)[n], &G, &J, &Gp)) return false;
     *max_residual = G.lpNorm<Eigen::Infinity>();
+    residuals.push_back(*max_residual);
     const double arc = t.dot(*z - yp);
     if (*max_residual <= settings.tolerance && std::abs(arc) <= 1e-9 * (1.0 + ds)) {
       // the new tangent: [J Gp; t^T] t_new = [0; 1]
@@ -152,7 +159,7 @@ bool Correct(CurveSystem* sys, PathFamily* family, const Eigen::VectorXd& t,
       if (tn->dot(t) < 0.0) *tn = -*tn;
       return true;
     }
-    if (*its == settings.corrector_iterations) return false;
+    if (*its == settings.corrector_iterations || CorrectorStalled(residuals)) return false;
     Eigen::VectorXd b(n + 1), dz;
     b.head(n) = -G;
     b[n] = -arc;
