@@ -82,6 +82,10 @@ bool TraceCurve(const IndirectOptions& options, Transcription* tr, ceres::Proble
   settings.tolerance = options.path_tolerance;
   settings.final_tolerance = 10.0 * options.residual_tolerance;
   settings.corrector_iterations = options.corrector_iterations;
+  // Not on the barrier continuation: on the TT course's first 5 km (5 m) its stopped correctors
+  // led to a turning point at eps 1.34e-4 that full correctors step over to converge at eps_end
+  // (SnaefellOracleTest.First5kmAgreement; docs/lap.md "Stalled correctors").
+  settings.stop_stalled = false;
   const auto report = [&](const PathPoint& point) {
     ContinuationStep step;
     step.eps = point.last ? options.eps_end : std::exp(point.p);

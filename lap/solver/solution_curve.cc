@@ -159,7 +159,8 @@ bool Correct(CurveSystem* sys, PathFamily* family, const Eigen::VectorXd& t,
       if (tn->dot(t) < 0.0) *tn = -*tn;
       return true;
     }
-    if (*its == settings.corrector_iterations || CorrectorStalled(residuals)) return false;
+    if (*its == settings.corrector_iterations) return false;
+    if (settings.stop_stalled && CorrectorStalled(residuals)) return false;
     Eigen::VectorXd b(n + 1), dz;
     b.head(n) = -G;
     b[n] = -arc;

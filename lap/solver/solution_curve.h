@@ -120,6 +120,7 @@ struct PathSettings {
   double tolerance = 1e-7;            // max |G| at the points before the end
   double final_tolerance = 1e-8;      // max |F| at the end (Newton at Eps(p_end), <= 12 its)
   int corrector_iterations = 8;       // Newton iterations of a step's corrector before it is halved
+  bool stop_stalled = true;           // a corrector that stalled (CorrectorStalled) fails at once
   int max_iterations = std::numeric_limits<int>::max();  // over all steps
 };
 
@@ -127,7 +128,8 @@ struct PathSettings {
 // than two iterates before, a floor or a cycle (at a kink of G). On the TT course's first 10 km
 // (20 m, at most 0.5 s, 3 km windows) the failed correctors' iterates had sat at such floors
 // (6.4e-2, 6.5e-2, 6.2e-2, ...) or cycled (2.1e-2, 3.2e-2, 2.1e-2, ...) for up to 8 iterations,
-// and no corrector that converged had done this (docs/lap.md "Stalled correctors").
+// and no corrector that converged had done this (docs/lap.md "Stalled correctors"). FollowPath
+// stops such a corrector with PathSettings::stop_stalled.
 bool CorrectorStalled(const std::vector<double>& max_residuals);
 
 // One step of FollowPath: p where it converged (the predictor's p when it failed).
@@ -147,7 +149,7 @@ enum class PathEnd { kReached, kTurned, kFailed };
 // settings.p_end: predictor along the unit tangent of (v, p), Newton corrector on
 // [G; t^T (y - y_pred)] = 0 (the bordered system), the step grown after an easy corrector (<= 3
 // iterations) and shrunk after a hard one (>= 6), halved after a failed one (one that spent
-// corrector_iterations or stalled: CorrectorStalled; the unknowns and the
+// corrector_iterations or, with stop_stalled, stalled; the unknowns and the
 // controls' Newton starts back at the last point); the last step lands on p_end and converges
 // there by Newton on F. Reports every step; stops at a turning point (p starts to go back:
 // kTurned, with the tangent there in `turn`), after 400 steps, when a step shrinks below 1e-6 in p
