@@ -187,10 +187,11 @@ int SolveFirstStep(const IndirectOptions& options, double eps, Transcription* tr
     lm.max_num_iterations = std::max(1, so.max_num_iterations - iterations);
     if (!cs->iterations.empty())
       lm.initial_trust_region_radius = cs->iterations.back().trust_region_radius;
-    near = std::sqrt(2.0 * cs->final_cost) <= options.homotopy_handoff;
+    const double norm = std::sqrt(2.0 * cs->final_cost);  // ||F||_2, as StopAtTolerance's
+    near = norm <= options.homotopy_handoff;
     if (!near) return iterations;  // LM stopped short of the handoff: its answer stands
     std::ostringstream o;
-    o << "Levenberg-Marquardt at ||F|| " << std::sqrt(2.0 * cs->final_cost) << " after "
+    o << "Levenberg-Marquardt at ||F|| " << norm << " after "
       << iterations << " iterations: Newton's homotopy from there";
     Log(LogKind::kInfo, o.str());
   }
