@@ -72,9 +72,9 @@ ceres::Solver::Options CeresOptions(const IndirectOptions& options) {
 // turning point of the curve (eps starts to grow: the points below it in eps are on another
 // branch) `turning_point` says where on the road the solution turns. True when eps_end was
 // reached.
-bool TraceCurve(const IndirectOptions& options, Transcription* tr, ceres::Problem* problem,
+bool TraceCurve(const IndirectOptions& options, Transcription* tr,
                 double eps0, std::vector<ContinuationStep>* steps, std::string* turning_point) {
-  CurveSystem sys(tr, problem);
+  CurveSystem sys(tr);
   BarrierPath path(&sys);
   PathSettings settings;
   settings.p_end = std::log(options.eps_end);
@@ -157,9 +157,9 @@ bool FollowFromStart(const IndirectOptions& options, CurveSystem* sys, PathFamil
 // The first step at eps from a start near its solution (IndirectOptions::homotopy) by Newton's
 // homotopy (NewtonHomotopy) from t = 0 to 1 (FollowFromStart); true when it reached F = 0, or when
 // the start solves F already.
-bool FirstStepByHomotopy(const IndirectOptions& options, Transcription* tr, ceres::Problem* problem,
-                         double eps, int* iterations) {
-  CurveSystem sys(tr, problem);
+bool FirstStepByHomotopy(const IndirectOptions& options, Transcription* tr, double eps,
+                         int* iterations) {
+  CurveSystem sys(tr);
   NewtonHomotopy homotopy(&sys, eps);
   *iterations = 0;
   if (!homotopy.Start()) return false;
@@ -197,7 +197,7 @@ int SolveFirstStep(const IndirectOptions& options, double eps, Transcription* tr
   }
   if (options.homotopy && near) {
     int homotopy_iterations = 0;
-    const bool reached = FirstStepByHomotopy(options, tr, problem, eps, &homotopy_iterations);
+    const bool reached = FirstStepByHomotopy(options, tr, eps, &homotopy_iterations);
     iterations += homotopy_iterations;
     *cs = ceres::Solver::Summary();
     if (reached) return iterations;
@@ -209,9 +209,9 @@ int SolveFirstStep(const IndirectOptions& options, double eps, Transcription* tr
 // The node barriers switched on at eps (the weight of the midpoints' solution in `tr`) by the
 // continuation in their share of eps (NodeBarrierPath) from 0 to 1; true when it got there, else
 // the unknowns are back at the midpoints' solution. Either way the share is 1 after it.
-bool SwitchOnNodeBarriers(const IndirectOptions& options, Transcription* tr,
-                          ceres::Problem* problem, double eps, int* iterations) {
-  CurveSystem sys(tr, problem);
+bool SwitchOnNodeBarriers(const IndirectOptions& options, Transcription* tr, double eps,
+                          int* iterations) {
+  CurveSystem sys(tr);
   NodeBarrierPath path(&sys, eps);
   *iterations = 0;
   tr->node_share = 0.0;
@@ -288,7 +288,7 @@ Continuation RunContinuation(const IndirectOptions& options, Transcription* tr,
       if (last_step) break;
       if (options.arclength) {  // the rest of the way along the curve (TraceCurve)
         std::vector<ContinuationStep> curve;
-        const bool reached = TraceCurve(options, tr, problem, eps, &curve, &c.turning_point);
+        const bool reached = TraceCurve(options, tr, eps, &curve, &c.turning_point);
         for (const ContinuationStep& s : curve) {
           summary->iterations += s.iterations;
           summary->steps.push_back(s);
@@ -412,7 +412,7 @@ Continuation SolveFrom(const IndirectOptions& options, bool from_guess, Transcri
     if (first.good.empty()) return first;
     int iterations = 0;
     if (options.node_share_path)
-      SwitchOnNodeBarriers(options, tr, problem, first.good.back().eps, &iterations);
+      SwitchOnNodeBarriers(options, tr, first.good.back().eps, &iterations);
     summary->iterations += iterations;
   }
   return RunContinuation(options, tr, problem, summary);

@@ -1,18 +1,19 @@
 #include "lap/solver/solution_curve.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <sstream>
 
+#include "lap/solver/parallel.h"
 #include "lap/solver/sparse_lu.h"
 
 namespace ttz::lap {
 
 BarrierWeight WeightFor(double eps) { return {eps, std::min(1e-3, 0.1 * eps)}; }
 
-CurveSystem::CurveSystem(Transcription* tr, ceres::Problem* problem)
-    : tr_(tr), problem_(problem), n_((tr->NumNodes() - 1) * kW) {}
+CurveSystem::CurveSystem(Transcription* tr) : tr_(tr), n_((tr->NumNodes() - 1) * kW) {}
 
 int CurveSystem::Index(int k, int i) { return (kW - kNumStates) + (k - 1) * kW + i; }
 
@@ -53,29 +54,65 @@ std::string CurveSystem::DescribeStateDirection(const Eigen::VectorXd& d) const 
   return o.str();
 }
 
+Eigen::SparseMatrix<double> CurveSystem::Pattern() const {
+  const int N = tr_->NumNodes() - 1;
+  std::vector<int> outer(n_ + 1, 0), inner;
+  inner.reserve(static_cast<size_t>(n_) * 2 * kW);
+  ForEachUnknown([&](int k, int i) {
+    for (int interval : {k - 1, k})
+      if (interval >= 0 && interval < N)
+        for (int r = 0; r < kW; ++r) inner.push_back(interval * kW + r);
+    outer[Index(k, i) + 1] = static_cast<int>(inner.size());
+  });
+  Eigen::SparseMatrix<double> J(N * kW, n_);
+  J.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
+  std::copy(outer.begin(), outer.end(), J.outerIndexPtr());
+  std::copy(inner.begin(), inner.end(), J.innerIndexPtr());
+  std::fill(J.valuePtr(), J.valuePtr() + inner.size(), 0.0);
+  return J;
+}
+
+bool CurveSystem::Residuals(Eigen::VectorXd* F, Eigen::SparseMatrix<double>* J) {
+  const int N = tr_->NumNodes() - 1;
+  tr_->EvaluateMids(J != nullptr);
+  if (!tr_->all_valid) return false;
+  F->resize(static_cast<Eigen::Index>(N) * kW);
+  if (J != nullptr) {
+    if (pattern_.nonZeros() == 0) pattern_ = Pattern();
+    if (J->nonZeros() != pattern_.nonZeros() || J->cols() != n_) *J = pattern_;
+  }
+  return ForEachInterval(N, tr_->threads, [&](int k) {
+    std::array<double, 2 * kW * kW> blocks;  // row-major, with respect to nodes k and k + 1
+    double* jac[2] = {blocks.data(), blocks.data() + kW * kW};
+    const double* p[2] = {tr_->W(k), tr_->W(k + 1)};
+    if (!IntervalResidual(tr_, k).Evaluate(p, F->data() + k * kW, J != nullptr ? jac : nullptr))
+      return false;
+    if (J == nullptr) return true;
+    for (int side = 0; side < 2; ++side) {
+      const int m = k + side;
+      for (int i = m == 0 ? kNumStates : 0; i < (m == N ? kNumStates : kW); ++i) {
+        // interval k's rows: the column's second 24 at node k (when k > 0), its first at k + 1
+        double* column = J->valuePtr() + J->outerIndexPtr()[Index(m, i)] +
+                         (side == 0 && k > 0 ? kW : 0);
+        for (int r = 0; r < kW; ++r) column[r] = jac[side][r * kW + i];
+      }
+    }
+    return true;
+  });
+}
+
 bool CurveSystem::Evaluate(double eps, Eigen::VectorXd* F, Eigen::SparseMatrix<double>* J,
                            Eigen::VectorXd* Fp) {
-  ceres::Problem::EvaluateOptions eo;
-  std::vector<double> r;
-  ceres::CRSMatrix crs;
   tr_->weight = WeightFor(eps);
-  if (!problem_->Evaluate(eo, nullptr, &r, nullptr, J != nullptr ? &crs : nullptr)) return false;
-  *F = Eigen::Map<Eigen::VectorXd>(r.data(), static_cast<Eigen::Index>(r.size()));
-  if (!F->allFinite()) return false;
-  if (J != nullptr) {
-    *J = Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor>>(
-        crs.num_rows, crs.num_cols, static_cast<Eigen::Index>(crs.values.size()), crs.rows.data(),
-        crs.cols.data(), crs.values.data());
-    J->makeCompressed();
-  }
+  if (!Residuals(F, J) || !F->allFinite()) return false;
   if (Fp == nullptr) return true;
   constexpr double hp = 1e-6;
   tr_->weight = WeightFor(eps * std::exp(hp));
-  std::vector<double> r1;
-  const bool ok = problem_->Evaluate(eo, nullptr, &r1, nullptr, nullptr);
+  Eigen::VectorXd F1;
+  const bool ok = Residuals(&F1, nullptr);
   tr_->weight = WeightFor(eps);
   if (!ok) return false;
-  *Fp = (Eigen::Map<Eigen::VectorXd>(r1.data(), static_cast<Eigen::Index>(r1.size())) - *F) / hp;
+  *Fp = (F1 - *F) / hp;
   return Fp->allFinite();
 }
 

@@ -10,7 +10,6 @@
 #include <string>
 #include <vector>
 
-#include <ceres/problem.h>
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
@@ -25,13 +24,17 @@ BarrierWeight WeightFor(double eps);
 // of node 0, then every unknown of nodes 1..N-1, then the states of node N).
 class CurveSystem {
  public:
-  CurveSystem(Transcription* tr, ceres::Problem* problem);
+  explicit CurveSystem(Transcription* tr);
   int size() const { return n_; }
   Transcription* transcription() const { return tr_; }
   Eigen::VectorXd Get() const;
   void Set(const Eigen::VectorXd& v);
   // F at the current unknowns and eps; with J: also dF/dv; with Fp: dF/dp, p = log(eps), by a
-  // forward difference. False when an evaluation fails or is not finite.
+  // forward difference. False when an evaluation fails or is not finite. The same F and J as
+  // Ceres' Problem::Evaluate of the transcription's problem (BuildProblem), assembled here: the
+  // interval blocks on the transcription's threads, straight into J's fixed pattern (on the
+  // whole TT course Problem::Evaluate, its CRS matrix and the conversion to Eigen had run on
+  // one thread for ~15 % of an iteration, docs/lap.md "The system assembled in place").
   bool Evaluate(double eps, Eigen::VectorXd* F, Eigen::SparseMatrix<double>* J,
                 Eigen::VectorXd* Fp);
   // Where a direction `d` of the unknowns (a tangent at a turning point: the direction in which
@@ -45,10 +48,15 @@ class CurveSystem {
   static int Index(int k, int i);
   template <typename Visit>
   void ForEachUnknown(Visit visit) const;
+  // F and, with J, dF/dv at the current unknowns and weight.
+  bool Residuals(Eigen::VectorXd* F, Eigen::SparseMatrix<double>* J);
+  // dF/dv's pattern: the column of unknown i of node k holds the 24 rows of interval k - 1 (if
+  // k > 0), then those of interval k (if k < N), every entry of the blocks (as Ceres' CRS).
+  Eigen::SparseMatrix<double> Pattern() const;
 
   Transcription* tr_;
-  ceres::Problem* problem_;
   int n_;
+  Eigen::SparseMatrix<double> pattern_;  // Pattern(), built at the first J
 };
 
 // Newton with sparse LU at fixed eps from the current unknowns; true when max |F| <= tol.

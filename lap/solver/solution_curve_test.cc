@@ -1,11 +1,18 @@
 // Tests of the path follower's pieces (solution_curve.h) that stand alone; FollowPath itself is
-// exercised through the indirect solver (indirect_test.cc, oracle_test.cc).
+// exercised through the indirect solver (indirect_test.cc, oracle_test.cc). The square system's
+// F and J, assembled in place, against Ceres' Problem::Evaluate of the same transcription.
 #include "lap/solver/solution_curve.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <limits>
 #include <vector>
+
+#include <ceres/ceres.h>
+
+#include "lap/testing/problem.h"
+#include "lap/testing/synthetic_road.h"
 
 namespace ttz::lap {
 namespace {
@@ -29,6 +36,49 @@ TEST(CorrectorStalledTest, ConvergenceWithABlipIsNot) {
 
 TEST(CorrectorStalledTest, ANonFiniteResidualIsStalled) {
   EXPECT_TRUE(CorrectorStalled({1.0, 0.5, std::numeric_limits<double>::quiet_NaN()}));
+}
+
+// 80 m on a 4 m mesh, a bend on a climb, at eps 0.05 from the QSS states with costates that vary
+// along the road, on two threads: F and J equal Ceres' (same rows, columns and entries).
+TEST(CurveSystemTest, AssemblesTheSystemThatCeresEvaluates) {
+  const Vehicle v = testing::Bx15();
+  const testing::MeshedRoad p(
+      v,
+      testing::SyntheticRoad(80.0, 8.0, [](double s) { return s > 30.0 ? 0.02 : 0.0; },
+                             [](double) { return 0.03; }),
+      4.0);
+  std::vector<StateVector<double>> lambda(p.mesh.size());
+  for (size_t k = 0; k < p.mesh.size(); ++k)
+    for (int i = 0; i < kNumStates; ++i) lambda[k][i] = 0.01 * std::sin(1.0 + k + 3.0 * i);
+  Transcription tr = MakeTranscription(v, p.road, p.mesh, p.qss.x, lambda, p.qss.u, 2);
+  ceres::Problem::Options options;
+  MidpointCallback callback(&tr);
+  options.evaluation_callback = &callback;
+  ceres::Problem problem(options);
+  BuildProblem(&tr, &problem);
+
+  CurveSystem sys(&tr);
+  Eigen::VectorXd F;
+  Eigen::SparseMatrix<double> J;
+  ASSERT_TRUE(sys.Evaluate(0.05, &F, &J, nullptr));
+  tr.weight = WeightFor(0.05);
+  std::vector<double> r;
+  ceres::CRSMatrix crs;
+  ASSERT_TRUE(problem.Evaluate(ceres::Problem::EvaluateOptions(), nullptr, &r, nullptr, &crs));
+
+  ASSERT_EQ(F.size(), static_cast<Eigen::Index>(r.size()));
+  for (size_t i = 0; i < r.size(); ++i) EXPECT_EQ(F[i], r[i]) << i;
+  ASSERT_EQ(J.rows(), crs.num_rows);
+  ASSERT_EQ(J.cols(), crs.num_cols);
+  ASSERT_EQ(J.cols(), sys.size());
+  ASSERT_EQ(J.nonZeros(), static_cast<Eigen::Index>(crs.values.size()));
+  double largest = 0.0;
+  for (int row = 0; row < crs.num_rows; ++row)
+    for (int e = crs.rows[row]; e < crs.rows[row + 1]; ++e) {
+      EXPECT_EQ(J.coeff(row, crs.cols[e]), crs.values[e]) << row << " " << crs.cols[e];
+      largest = std::max(largest, std::abs(crs.values[e]));
+    }
+  EXPECT_GT(largest, 1.0);  // not a matrix of zeros
 }
 
 }  // namespace
