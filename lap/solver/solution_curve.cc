@@ -77,10 +77,7 @@ bool CurveSystem::Residuals(Eigen::VectorXd* F, Eigen::SparseMatrix<double>* J) 
   tr_->EvaluateMids(J != nullptr);
   if (!tr_->all_valid) return false;
   F->resize(static_cast<Eigen::Index>(N) * kW);
-  if (J != nullptr) {
-    if (pattern_.nonZeros() == 0) pattern_ = Pattern();
-    if (J->nonZeros() != pattern_.nonZeros() || J->cols() != n_) *J = pattern_;
-  }
+  if (J != nullptr && (J->cols() != n_ || J->nonZeros() != JacobianEntries())) *J = Pattern();
   return ForEachInterval(N, tr_->threads, [&](int k) {
     std::array<double, 2 * kW * kW> blocks;  // row-major, with respect to nodes k and k + 1
     double* jac[2] = {blocks.data(), blocks.data() + kW * kW};

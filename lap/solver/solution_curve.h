@@ -32,9 +32,9 @@ class CurveSystem {
   // F at the current unknowns and eps; with J: also dF/dv; with Fp: dF/dp, p = log(eps), by a
   // forward difference. False when an evaluation fails or is not finite. The same F and J as
   // Ceres' Problem::Evaluate of the transcription's problem (BuildProblem), assembled here: the
-  // interval blocks on the transcription's threads, straight into J's fixed pattern (on the
-  // whole TT course Problem::Evaluate, its CRS matrix and the conversion to Eigen had run on
-  // one thread for ~15 % of an iteration, docs/lap.md "The system assembled in place").
+  // interval blocks on the transcription's threads, straight into J's fixed pattern, without
+  // Ceres' CRS copy of J and its conversion to Eigen (first 10 km of the TT course: peak memory
+  // 166 MB against 377 MB, the same time; docs/lap.md "The square system assembled in place").
   bool Evaluate(double eps, Eigen::VectorXd* F, Eigen::SparseMatrix<double>* J,
                 Eigen::VectorXd* Fp);
   // Where a direction `d` of the unknowns (a tangent at a turning point: the direction in which
@@ -42,6 +42,11 @@ class CurveSystem {
   // largest part, and the stretch of road between the first and the last node of the parts
   // >= 10 % of it.
   std::string DescribeStateDirection(const Eigen::VectorXd& d) const;
+  // The entries of dF/dv (Evaluate writes into a J that has as many): 2 kW per column, kW in
+  // the columns of node 0's costates and node N's states.
+  Eigen::Index JacobianEntries() const {
+    return 2 * kW * (static_cast<Eigen::Index>(n_) - kNumStates);
+  }
 
  private:
   // Position in v of unknown i of node k (node 0 contributes its costates, node N its states).
@@ -50,13 +55,13 @@ class CurveSystem {
   void ForEachUnknown(Visit visit) const;
   // F and, with J, dF/dv at the current unknowns and weight.
   bool Residuals(Eigen::VectorXd* F, Eigen::SparseMatrix<double>* J);
-  // dF/dv's pattern: the column of unknown i of node k holds the 24 rows of interval k - 1 (if
-  // k > 0), then those of interval k (if k < N), every entry of the blocks (as Ceres' CRS).
+  // dF/dv's pattern, values zero: the column of unknown i of node k holds the 24 rows of
+  // interval k - 1 (if k > 0), then those of interval k (if k < N), every entry of the blocks
+  // (as Ceres' CRS).
   Eigen::SparseMatrix<double> Pattern() const;
 
   Transcription* tr_;
   int n_;
-  Eigen::SparseMatrix<double> pattern_;  // Pattern(), built at the first J
 };
 
 // Newton with sparse LU at fixed eps from the current unknowns; true when max |F| <= tol.

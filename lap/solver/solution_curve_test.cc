@@ -72,6 +72,7 @@ TEST(CurveSystemTest, AssemblesTheSystemThatCeresEvaluates) {
   ASSERT_EQ(J.cols(), crs.num_cols);
   ASSERT_EQ(J.cols(), sys.size());
   ASSERT_EQ(J.nonZeros(), static_cast<Eigen::Index>(crs.values.size()));
+  EXPECT_EQ(sys.JacobianEntries(), J.nonZeros());
   double largest = 0.0;
   for (int row = 0; row < crs.num_rows; ++row)
     for (int e = crs.rows[row]; e < crs.rows[row + 1]; ++e) {
