@@ -124,7 +124,7 @@ bool NewtonAtFixedEps(CurveSystem* sys, double eps, double tol, int max_its, dou
     if (*max_residual <= tol) return true;
     if (*its == max_its) return false;
     Eigen::VectorXd dv;
-    if (!SolveSquare(J, F, &dv)) return false;
+    if (!SolveSquare(J, CurveSystem::kJacobianForm, F, &dv)) return false;
     v -= dv;
     sys->transcription()->KeepControlsAsStarts();
   }
@@ -188,7 +188,7 @@ bool Correct(CurveSystem* sys, PathFamily* family, const Eigen::VectorXd& t,
       // the new tangent: [J Gp; t^T] t_new = [0; 1]
       Eigen::VectorXd b = Eigen::VectorXd::Zero(n + 1);
       b[n] = 1.0;
-      if (!SolveBordered(J, Gp, t, b, tn)) return false;
+      if (!SolveBordered(J, CurveSystem::kJacobianForm, Gp, t, b, tn)) return false;
       tn->normalize();
       if (tn->dot(t) < 0.0) *tn = -*tn;
       return true;
@@ -198,7 +198,7 @@ bool Correct(CurveSystem* sys, PathFamily* family, const Eigen::VectorXd& t,
     Eigen::VectorXd b(n + 1), dz;
     b.head(n) = -G;
     b[n] = -arc;
-    if (!SolveBordered(J, Gp, t, b, &dz)) return false;
+    if (!SolveBordered(J, CurveSystem::kJacobianForm, Gp, t, b, &dz)) return false;
     *z += dz;
     sys->transcription()->KeepControlsAsStarts();
   }
@@ -219,7 +219,7 @@ PathEnd FollowPath(CurveSystem* sys, PathFamily* family, double p0, const PathSe
   if (!family->Evaluate(p0, &G, &J, &Gp)) return PathEnd::kFailed;
   {  // the first tangent, towards p_end: J dv/dp = -G_p
     Eigen::VectorXd dv_dp;
-    if (!SolveSquare(J, -Gp, &dv_dp)) return PathEnd::kFailed;
+    if (!SolveSquare(J, CurveSystem::kJacobianForm, -Gp, &dv_dp)) return PathEnd::kFailed;
     t.head(n) = dir * dv_dp;
     t[n] = dir;
     t.normalize();

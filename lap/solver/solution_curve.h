@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include "lap/solver/staircase_lu.h"
 #include "lap/solver/transcription.h"
 
 namespace ttz::lap {
@@ -47,6 +48,9 @@ class CurveSystem {
   Eigen::Index JacobianEntries() const {
     return 2 * kW * (static_cast<Eigen::Index>(n_) - kNumStates);
   }
+  // dF/dv's staircase form (staircase_lu.h): interval k's kW rows touch the unknowns of nodes k
+  // and k + 1, of which node 0 has its kNumStates costates.
+  static constexpr Staircase kJacobianForm{kW, kNumStates};
 
  private:
   // Position in v of unknown i of node k (node 0 contributes its costates, node N its states).

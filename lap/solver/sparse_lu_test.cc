@@ -13,8 +13,10 @@ namespace ttz::lap {
 namespace {
 
 constexpr int kN = 60;
+constexpr Staircase kForm{6, 3};  // row block k (6 rows) touches columns 6k - 3 .. 6k + 8
 
-// A banded, diagonally dominant J (like the transcription's, regular) with a random border and
+// A banded, diagonally dominant J (like the transcription's, regular; bandwidth 3, so in the
+// staircase form kForm) with a random border and
 // right-hand side (seeded).
 struct Bordered {
   Eigen::SparseMatrix<double> J{kN, kN};
@@ -55,7 +57,7 @@ struct Bordered {
 
 void ExpectSolves(const Bordered& p) {
   Eigen::VectorXd x;
-  ASSERT_TRUE(SolveBordered(p.J, p.c, p.a, p.b, &x));
+  ASSERT_TRUE(SolveBordered(p.J, kForm, p.c, p.a, p.b, &x));
   const Eigen::VectorXd dense = p.Dense().fullPivLu().solve(p.b);
   EXPECT_LE((x - dense).lpNorm<Eigen::Infinity>(), 1e-9 * dense.lpNorm<Eigen::Infinity>());
   EXPECT_LE((p.Dense() * x - p.b).lpNorm<Eigen::Infinity>(), 1e-9);
@@ -67,7 +69,7 @@ TEST(SparseLuTest, BorderedSystemWithASingularJ) {
   Bordered p;
   p.Pinch(17, 0.0);
   Eigen::VectorXd x;
-  EXPECT_FALSE(SolveSquare(p.J, p.b.head(kN), &x));  // J alone cannot be solved
+  EXPECT_FALSE(SolveSquare(p.J, kForm, p.b.head(kN), &x));  // J alone cannot be solved
   ExpectSolves(p);
 }
 
@@ -80,7 +82,7 @@ TEST(SparseLuTest, BorderedSystemWithANearlySingularJ) {
 TEST(SparseLuTest, SquareSystemAgainstDenseLu) {
   const Bordered p;
   Eigen::VectorXd x;
-  ASSERT_TRUE(SolveSquare(p.J, p.b.head(kN), &x));
+  ASSERT_TRUE(SolveSquare(p.J, kForm, p.b.head(kN), &x));
   const Eigen::VectorXd dense = Eigen::MatrixXd(p.J).partialPivLu().solve(p.b.head(kN));
   EXPECT_LE((x - dense).lpNorm<Eigen::Infinity>(), 1e-12);
 }

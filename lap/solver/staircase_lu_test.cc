@@ -1,0 +1,69 @@
+// The staircase LU (staircase_lu.h) against Eigen's dense LU on random matrices of the form, with
+// the transcription's layout and the corner cases of the first group's width; and its refusals.
+#include "lap/solver/staircase_lu.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <random>
+#include <vector>
+
+namespace ttz::lap {
+namespace {
+
+// A random matrix in staircase form (R, g) with N row blocks, every entry of the staircase drawn
+// from [-1, 1] (no diagonal dominance: the elimination has to pivot), seeded.
+Eigen::SparseMatrix<double> RandomStaircase(int R, int g, int N, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Eigen::Triplet<double>> t;
+  for (int k = 0; k < N; ++k) {
+    const int first = k == 0 ? 0 : g + R * (k - 1);  // group k's first column
+    const int last = std::min(g + R * (k + 1), N * R);  // past group k + 1's
+    for (int r = 0; r < R; ++r)
+      for (int c = first; c < last; ++c) t.emplace_back(k * R + r, c, u(rng));
+  }
+  Eigen::SparseMatrix<double> J(N * R, N * R);
+  J.setFromTriplets(t.begin(), t.end());
+  return J;
+}
+
+void ExpectSolvesLikeDenseLu(int R, int g, int N) {
+  const Eigen::SparseMatrix<double> J = RandomStaircase(R, g, N, 11 * R + g);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(J.rows(), -1.0, 2.0);
+  StaircaseLU lu({R, g});
+  ASSERT_TRUE(lu.Compute(J));
+  const Eigen::VectorXd x = lu.Solve(b);
+  const Eigen::VectorXd dense = Eigen::MatrixXd(J).partialPivLu().solve(b);
+  EXPECT_LE((x - dense).lpNorm<Eigen::Infinity>(), 1e-9 * dense.lpNorm<Eigen::Infinity>())
+      << "R " << R << " g " << g;
+  EXPECT_LE((J * x - b).lpNorm<Eigen::Infinity>(), 1e-10 * dense.lpNorm<Eigen::Infinity>());
+}
+
+TEST(StaircaseLuTest, TheTranscriptionsLayout) { ExpectSolvesLikeDenseLu(24, 12, 12); }
+
+TEST(StaircaseLuTest, FirstGroupsOfEveryWidth) {
+  for (int g = 0; g <= 5; ++g) ExpectSolvesLikeDenseLu(5, g, 9);
+}
+
+TEST(StaircaseLuTest, OneBlock) { ExpectSolvesLikeDenseLu(6, 2, 1); }
+
+TEST(StaircaseLuTest, RefusesAnEntryOutsideTheStaircase) {
+  Eigen::SparseMatrix<double> J = RandomStaircase(4, 2, 5, 3);
+  StaircaseLU lu({4, 2});
+  ASSERT_TRUE(lu.Compute(J));
+  J.coeffRef(0, 19) = 1.0;  // row block 0 in the last group
+  EXPECT_FALSE(lu.Compute(J));
+  // 20 rows: not in blocks of 3
+  EXPECT_FALSE(StaircaseLU({3, 2}).Compute(RandomStaircase(4, 2, 5, 3)));
+}
+
+TEST(StaircaseLuTest, RefusesASingularMatrix) {
+  Eigen::SparseMatrix<double> J = RandomStaircase(4, 2, 5, 5);
+  // column 9 made zero
+  for (Eigen::SparseMatrix<double>::InnerIterator it(J, 9); it; ++it) it.valueRef() = 0.0;
+  EXPECT_FALSE(StaircaseLU({4, 2}).Compute(J));
+}
+
+}  // namespace
+}  // namespace ttz::lap
