@@ -1,8 +1,8 @@
 // The LU of the indirect solver's J (lap/solver/staircase_lu.h) against the general sparse LU it
 // replaced (Eigen's SparseLU in J's natural order): seconds of one factorisation and of one solve,
-// each the least of three, on a random matrix of J's staircase form (blocks of 24 rows, the first
-// column group of 12) with N row blocks, as many as the TT course's intervals on the 20 m mesh
-// with at most 0.5 s (6,719: docs/lap.md "The staircase LU"). Random entries in [-1, 1], 4 added
+// each the least of three, on a random matrix of J's staircase form (CurveSystem::kJacobianForm:
+// blocks of 26 rows, the first column group of 13) with N row blocks, as many as the TT course's
+// intervals on the 20 m mesh with at most 0.5 s (6,202: docs/lap.md "The staircase LU"). Random entries in [-1, 1], 4 added
 // on the diagonal; the two solutions' largest difference is printed as a check.
 //
 //   lu_bench [N]
@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "common/memory.h"
+#include "lap/solver/solution_curve.h"
 #include "lap/solver/staircase_lu.h"
 
 namespace {
@@ -43,14 +44,15 @@ double Seconds(std::chrono::steady_clock::time_point a, std::chrono::steady_cloc
 
 int main(int argc, char** argv) {
   ttz::KeepFreedMemory();  // as lap and lap_bench do
-  const int N = argc > 1 ? std::atoi(argv[1]) : 6719;
-  const Eigen::SparseMatrix<double> J = RandomStaircase(24, 12, N);
+  constexpr ttz::lap::Staircase form = ttz::lap::CurveSystem::kJacobianForm;
+  const int N = argc > 1 ? std::atoi(argv[1]) : 6202;
+  const Eigen::SparseMatrix<double> J = RandomStaircase(form.block_rows, form.first_width, N);
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(J.rows(), -1.0, 1.0);
   constexpr double kInf = std::numeric_limits<double>::infinity();
   double stair[2] = {kInf, kInf}, sparse[2] = {kInf, kInf}, diff = 0.0;
   for (int rep = 0; rep < 3; ++rep) {
     auto t0 = std::chrono::steady_clock::now();
-    ttz::lap::StaircaseLU lu({24, 12});
+    ttz::lap::StaircaseLU lu(form);
     if (!lu.Compute(J)) return 1;
     auto t1 = std::chrono::steady_clock::now();
     const Eigen::VectorXd x = lu.Solve(b);

@@ -7,10 +7,10 @@
 // Gaussian elimination with partial pivoting in the columns' order is then a sequence of small
 // dense steps: at group k the candidate rows are the R - g rows left over from block k - 1 (which
 // by then touch group k alone) and the R rows of block k, and eliminating group k's columns leaves
-// R - g rows that touch group k + 1 alone. A step is an LU of a (2R - g) x (width of group k + 1
-// more) dense block: about 40,000 flops for R = 24, g = 12, where a band LU with J's bandwidths
-// (35 below and above) would do about 120,000 per 24 columns and a general sparse LU adds its
-// symbolic work (docs/lap.md "The staircase LU"). The pivots are those of partial pivoting on the
+// R - g rows that touch group k + 1 alone. A step eliminates group k's columns in a dense block of
+// 2R - g rows and the two groups' columns: about 54,000 flops for J's R = 26, g = 13 (39 x 52),
+// where a band LU with J's bandwidths (38 below and above) would do about 150,000 per 26 columns
+// and a general sparse LU adds its symbolic work (docs/lap.md "The staircase LU"). The pivots are those of partial pivoting on the
 // whole matrix in its own order, so the factors are as stable as that.
 #pragma once
 

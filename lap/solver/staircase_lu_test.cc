@@ -8,6 +8,8 @@
 #include <random>
 #include <vector>
 
+#include "lap/solver/solution_curve.h"
+
 namespace ttz::lap {
 namespace {
 
@@ -40,7 +42,10 @@ void ExpectSolvesLikeDenseLu(int R, int g, int N) {
   EXPECT_LE((J * x - b).lpNorm<Eigen::Infinity>(), 1e-10 * dense.lpNorm<Eigen::Infinity>());
 }
 
-TEST(StaircaseLuTest, TheTranscriptionsLayout) { ExpectSolvesLikeDenseLu(24, 12, 12); }
+TEST(StaircaseLuTest, TheTranscriptionsForm) {
+  const Staircase form = CurveSystem::kJacobianForm;
+  ExpectSolvesLikeDenseLu(form.block_rows, form.first_width, 12);
+}
 
 TEST(StaircaseLuTest, FirstGroupsOfEveryWidth) {
   for (int g = 0; g <= 5; ++g) ExpectSolvesLikeDenseLu(5, g, 9);
