@@ -21,9 +21,11 @@ bool SolveSquare(const Eigen::SparseMatrix<double>& J, Staircase form, const Eig
 // n + 1) by block elimination with the staircase LU of J alone (Keller's bordering
 // algorithm): J y = b_J, J z = c, x_n = (b_n - a_J.y) / (a_n - a_J.z), x_J = y - z x_n. Where J is
 // singular or nearly so (at a turning point of the continuation's curve, which the bordered matrix
-// is built to pass) that is inaccurate: when the bordered matrix times x misses b by more than
-// 1e-9 of max(1, |b|) (max norms), the LU of the bordered matrix itself solves it, whose dense last
-// row and column fill the factors (docs/lap.md). False when neither gives a finite x.
+// is built to pass) that is inaccurate: while the bordered matrix times x misses b by more than
+// 1e-9 of max(1, |b|) (max norms), x is refined by the same elimination of the miss (at most
+// twice), and if it still misses, the LU of the bordered matrix itself solves it, whose dense last
+// row and column fill the factors (on the whole TT course one such solve took ~15 s and 2.8 GB:
+// docs/lap.md "The staircase LU"). False when neither gives a finite x.
 bool SolveBordered(const Eigen::SparseMatrix<double>& J, Staircase form, const Eigen::VectorXd& c,
                    const Eigen::VectorXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x);
 
