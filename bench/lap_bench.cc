@@ -92,6 +92,8 @@ constexpr IndirectKey kIndirectKeys[] = {
      [](ttz::lap::IndirectOptions* o, double x) { o->corrector_iterations = static_cast<int>(x); }},
     {"homotopy", [](ttz::lap::IndirectOptions* o, double x) { o->homotopy = x != 0.0; }},
     {"homotopy_handoff", [](ttz::lap::IndirectOptions* o, double x) { o->homotopy_handoff = x; }},
+    {"homotopy_tolerance", [](ttz::lap::IndirectOptions* o, double x) { o->homotopy_tolerance = x; }},
+    {"arclength_dlogeps", [](ttz::lap::IndirectOptions* o, double x) { o->arclength_dlogeps = x; }},
     {"window_homotopy_handoff",
      [](ttz::lap::IndirectOptions* o, double x) { o->window_homotopy_handoff = x; }},
     {"node_share_path", [](ttz::lap::IndirectOptions* o, double x) { o->node_share_path = x != 0.0; }},

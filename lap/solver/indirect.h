@@ -66,7 +66,13 @@ struct IndirectOptions {
   // itself it turned or crept (10 km of the course: 17,702 iterations in all against 1,610);
   // from a guess it starts where LM got near (homotopy_handoff).
   bool homotopy = true;
-  double homotopy_tolerance = 1e-5;  // max |H| at the homotopy's points before t = 1
+  // max |H| at the points before the end of Newton's homotopy and of the node barriers' share
+  // path: only the end needs to solve F, the points only keep Newton's iterates near the path. On
+  // the TT course (20 m, at most 0.5 s, 3 km windows) 1e-3 instead of 1e-5 took the first 10 km
+  // from 682 iterations to 569 (1e-4: 656; 1e-2: 1,103, its steps failing) and the whole course
+  // from 4,957 to 4,328, 208.0 s against 234.2 s, the same lap (docs/lap.md "Looser points on
+  // the homotopies").
+  double homotopy_tolerance = 1e-3;
   // From a guess Levenberg-Marquardt's first solve hands over to Newton's homotopy (above, with
   // homotopy on) where it first reaches ||F||_2 <= homotopy_handoff (0: never); where the
   // homotopy fails LM goes on from there. LM brings the QSS guess near the solution in 10-75
