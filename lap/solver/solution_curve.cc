@@ -166,6 +166,11 @@ bool CorrectorStalled(const std::vector<double>& max_residuals) {
   return k >= 3 && !(max_residuals[k - 1] < max_residuals[k - 3]);
 }
 
+bool CorrectorDiverged(const std::vector<double>& max_residuals, double tolerance) {
+  return !max_residuals.empty() &&
+         !(max_residuals.back() <= 1e6 * std::max(max_residuals.front(), tolerance));
+}
+
 namespace {
 
 // Newton corrector of a step of length ds from the predictor `yp` (tangent t): max |G| <= tol and on the
@@ -195,6 +200,7 @@ bool Correct(CurveSystem* sys, PathFamily* family, const Eigen::VectorXd& t,
     }
     if (*its == settings.corrector_iterations) return false;
     if (settings.stop_stalled && CorrectorStalled(residuals)) return false;
+    if (CorrectorDiverged(residuals, settings.tolerance)) return false;
     Eigen::VectorXd b(n + 1), dz;
     b.head(n) = -G;
     b[n] = -arc;

@@ -149,6 +149,15 @@ struct PathSettings {
 // stops such a corrector with PathSettings::stop_stalled.
 bool CorrectorStalled(const std::vector<double>& max_residuals);
 
+// Whether a Newton corrector has diverged: its last max |G| is above 1e6 times its predictor's (or
+// the tolerance, if larger) or not finite. On the whole TT course the barrier continuation's
+// failed correctors below eps 2e-3 ran to max |G| of 1e9-1e16 before failing, and at such an
+// iterate the bordered solve, its block elimination missing its accuracy, fell back to UMFPACK on
+// the bordered matrix (15-23 s, 2.8 GB). With the rule the whole course's 1,219 steps converged
+// or failed as without it, 12 failed ones sooner (docs/lap.md "Two chains and diverged
+// correctors"). FollowPath stops such a corrector on every path.
+bool CorrectorDiverged(const std::vector<double>& max_residuals, double tolerance);
+
 // One step of FollowPath: p where it converged (the predictor's p when it failed).
 struct PathPoint {
   double p = 0.0;
@@ -166,7 +175,7 @@ enum class PathEnd { kReached, kTurned, kFailed };
 // settings.p_end: predictor along the unit tangent of (v, p), Newton corrector on
 // [G; t^T (y - y_pred)] = 0 (the bordered system), the step grown after an easy corrector (<= 3
 // iterations) and shrunk after a hard one (>= 6), halved after a failed one (one that spent
-// corrector_iterations or, with stop_stalled, stalled; the unknowns and the
+// corrector_iterations, diverged or, with stop_stalled, stalled; the unknowns and the
 // controls' Newton starts back at the last point); the last step lands on p_end and converges
 // there by Newton on F. Reports every step; stops at a turning point (p starts to go back:
 // kTurned, with the tangent there in `turn`), after 400 steps, when a step shrinks below 1e-6 in p

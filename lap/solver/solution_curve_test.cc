@@ -34,6 +34,15 @@ TEST(CorrectorStalledTest, ConvergenceWithABlipIsNot) {
   EXPECT_FALSE(CorrectorStalled({1.0, 2.0}));  // too few iterates to say
 }
 
+TEST(CorrectorDivergedTest, AboveAMillionTimesItsStart) {
+  EXPECT_TRUE(CorrectorDiverged({4.1e-2, 3.0e2, 8.2e9}, 1e-7));  // as the whole course's, to 8.2e9
+  EXPECT_FALSE(CorrectorDiverged({4.1e-2, 3.0e2, 8.2e3}, 1e-7));
+  EXPECT_FALSE(CorrectorDiverged({1e-9, 1e-4}, 1e-7));  // a start below the tolerance
+  EXPECT_TRUE(CorrectorDiverged({1e-9, 1.0}, 1e-7));
+  EXPECT_TRUE(CorrectorDiverged({1.0, std::numeric_limits<double>::infinity()}, 1e-7));
+  EXPECT_FALSE(CorrectorDiverged({}, 1e-7));
+}
+
 TEST(CorrectorStalledTest, ANonFiniteResidualIsStalled) {
   EXPECT_TRUE(CorrectorStalled({1.0, 0.5, std::numeric_limits<double>::quiet_NaN()}));
 }
