@@ -2,8 +2,9 @@
 // replaced (Eigen's SparseLU in J's natural order): seconds of one factorisation and of one solve,
 // each the least of three, on a random matrix of J's staircase form (CurveSystem::kJacobianForm:
 // blocks of 26 rows, the first column group of 13) with N row blocks, as many as the TT course's
-// intervals on the 20 m mesh with at most 0.5 s (6,202: docs/lap.md "The staircase LU"). Random entries in [-1, 1], 4 added
-// on the diagonal; the two solutions' largest difference is printed as a check.
+// intervals on the 20 m mesh with at most 0.5 s (6,202: docs/lap.md "The staircase LU"). Random
+// entries in [-1, 1], 4 added on the diagonal; the two solutions' largest difference is printed
+// as a check.
 //
 //   lu_bench [N]
 #include <Eigen/SparseLU>
@@ -12,29 +13,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
-#include <random>
-#include <vector>
 
 #include "common/memory.h"
 #include "lap/solver/solution_curve.h"
 #include "lap/solver/staircase_lu.h"
+#include "lap/testing/random_staircase.h"
 
 namespace {
-
-Eigen::SparseMatrix<double> RandomStaircase(int R, int g, int N) {
-  std::mt19937 rng(1);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::vector<Eigen::Triplet<double>> t;
-  for (int k = 0; k < N; ++k) {
-    const int first = k == 0 ? 0 : g + R * (k - 1), last = std::min(g + R * (k + 1), N * R);
-    for (int r = 0; r < R; ++r)
-      for (int c = first; c < last; ++c)
-        t.emplace_back(k * R + r, c, u(rng) + (k * R + r == c ? 4.0 : 0.0));
-  }
-  Eigen::SparseMatrix<double> J(N * R, N * R);
-  J.setFromTriplets(t.begin(), t.end());
-  return J;
-}
 
 double Seconds(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
@@ -46,7 +31,8 @@ int main(int argc, char** argv) {
   ttz::KeepFreedMemory();  // as lap and lap_bench do
   constexpr ttz::lap::Staircase form = ttz::lap::CurveSystem::kJacobianForm;
   const int N = argc > 1 ? std::atoi(argv[1]) : 6202;
-  const Eigen::SparseMatrix<double> J = RandomStaircase(form.block_rows, form.first_width, N);
+  const Eigen::SparseMatrix<double> J =
+      ttz::lap::testing::RandomStaircase(form.block_rows, form.first_width, N, 1, 4.0);
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(J.rows(), -1.0, 1.0);
   constexpr double kInf = std::numeric_limits<double>::infinity();
   double stair[2] = {kInf, kInf}, sparse[2] = {kInf, kInf}, diff = 0.0;

@@ -17,8 +17,7 @@ constexpr int kN = 60;
 constexpr Staircase kForm{6, 3};  // row block k (6 rows) touches columns 6k - 3 .. 6k + 8
 
 // A banded, diagonally dominant J (like the transcription's, regular; bandwidth 3, so in the
-// staircase form kForm) with a random border and
-// right-hand side (seeded).
+// staircase form kForm) with a random border and right-hand side (seeded).
 struct Bordered {
   Eigen::SparseMatrix<double> J{kN, kN};
   Eigen::VectorXd c{kN}, a{kN + 1}, b{kN + 1};

@@ -5,30 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
-#include <random>
-#include <vector>
 
 #include "lap/solver/solution_curve.h"
+#include "lap/testing/random_staircase.h"
 
 namespace ttz::lap {
 namespace {
 
-// A random matrix in staircase form (R, g) with N row blocks, every entry of the staircase drawn
-// from [-1, 1] (no diagonal dominance: the elimination has to pivot), seeded.
-Eigen::SparseMatrix<double> RandomStaircase(int R, int g, int N, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::vector<Eigen::Triplet<double>> t;
-  for (int k = 0; k < N; ++k) {
-    const int first = k == 0 ? 0 : g + R * (k - 1);  // group k's first column
-    const int last = std::min(g + R * (k + 1), N * R);  // past group k + 1's
-    for (int r = 0; r < R; ++r)
-      for (int c = first; c < last; ++c) t.emplace_back(k * R + r, c, u(rng));
-  }
-  Eigen::SparseMatrix<double> J(N * R, N * R);
-  J.setFromTriplets(t.begin(), t.end());
-  return J;
-}
+using testing::RandomStaircase;
 
 void ExpectSolvesLikeDenseLu(int R, int g, int N) {
   const Eigen::SparseMatrix<double> J = RandomStaircase(R, g, N, 11 * R + g);
