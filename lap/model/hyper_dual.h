@@ -17,6 +17,7 @@
 #pragma once
 
 #include <cmath>
+#include <utility>
 
 #include <Eigen/Core>
 
@@ -79,12 +80,19 @@ struct HyperDual {
 
 namespace hyper_dual_detail {
 
-// r.h += c (p q^T + q p^T), lower triangle.
+// r.h += c (p q^T + q p^T), lower triangle, row by row, each row's length a compile-time constant.
+template <int N, int... I>
+inline void AddSymmetricOuterRows(double c, const typename HyperDual<N>::Gradient& p,
+                                  const typename HyperDual<N>::Gradient& q, HyperDual<N>* r,
+                                  std::integer_sequence<int, I...>) {
+  ((r->h.template segment<I + 1>(HyperDual<N>::Index(I, 0)) +=
+    (c * p[I]) * q.template head<I + 1>() + (c * q[I]) * p.template head<I + 1>()),
+   ...);
+}
 template <int N>
 inline void AddSymmetricOuter(double c, const typename HyperDual<N>::Gradient& p,
                               const typename HyperDual<N>::Gradient& q, HyperDual<N>* r) {
-  for (int i = 0, k = 0; i < N; k += ++i)
-    r->h.segment(k, i + 1) += (c * p[i]) * q.head(i + 1) + (c * q[i]) * p.head(i + 1);
+  AddSymmetricOuterRows<N>(c, p, q, r, std::make_integer_sequence<int, N>{});
 }
 
 // f(x) from f, f' and f'' at x.a (the chain rule of second order).
@@ -108,13 +116,24 @@ inline HyperDual<N> operator-(const HyperDual<N>& x) {
   r.h = -x.h;
   return r;
 }
+// The operators build their result in one pass over their operands: taking an operand by value and
+// returning `x += y` copied its 136 doubles (N = 15) twice, and those copies were 10 % of the
+// indirect solver's time (perf, docs/lap.md "One pass per operator").
 template <int N>
-inline HyperDual<N> operator+(HyperDual<N> x, const HyperDual<N>& y) {
-  return x += y;
+inline HyperDual<N> operator+(const HyperDual<N>& x, const HyperDual<N>& y) {
+  HyperDual<N> r{typename HyperDual<N>::Uninitialised{}};
+  r.a = x.a + y.a;
+  r.g = x.g + y.g;
+  r.h = x.h + y.h;
+  return r;
 }
 template <int N>
-inline HyperDual<N> operator-(HyperDual<N> x, const HyperDual<N>& y) {
-  return x -= y;
+inline HyperDual<N> operator-(const HyperDual<N>& x, const HyperDual<N>& y) {
+  HyperDual<N> r{typename HyperDual<N>::Uninitialised{}};
+  r.a = x.a - y.a;
+  r.g = x.g - y.g;
+  r.h = x.h - y.h;
+  return r;
 }
 template <int N>
 inline HyperDual<N> operator*(const HyperDual<N>& x, const HyperDual<N>& y) {
@@ -138,16 +157,20 @@ inline HyperDual<N> operator/(const HyperDual<N>& x, const HyperDual<N>& y) {
 }
 
 template <int N>
-inline HyperDual<N> operator+(HyperDual<N> x, double s) {
-  return x += s;
+inline HyperDual<N> operator+(const HyperDual<N>& x, double s) {
+  HyperDual<N> r = x;
+  r.a += s;
+  return r;
 }
 template <int N>
-inline HyperDual<N> operator+(double s, HyperDual<N> x) {
-  return x += s;
+inline HyperDual<N> operator+(double s, const HyperDual<N>& x) {
+  return x + s;
 }
 template <int N>
-inline HyperDual<N> operator-(HyperDual<N> x, double s) {
-  return x -= s;
+inline HyperDual<N> operator-(const HyperDual<N>& x, double s) {
+  HyperDual<N> r = x;
+  r.a -= s;
+  return r;
 }
 template <int N>
 inline HyperDual<N> operator-(double s, const HyperDual<N>& x) {
@@ -156,16 +179,20 @@ inline HyperDual<N> operator-(double s, const HyperDual<N>& x) {
   return r;
 }
 template <int N>
-inline HyperDual<N> operator*(HyperDual<N> x, double s) {
-  return x *= s;
+inline HyperDual<N> operator*(const HyperDual<N>& x, double s) {
+  HyperDual<N> r{typename HyperDual<N>::Uninitialised{}};
+  r.a = x.a * s;
+  r.g = x.g * s;
+  r.h = x.h * s;
+  return r;
 }
 template <int N>
-inline HyperDual<N> operator*(double s, HyperDual<N> x) {
-  return x *= s;
+inline HyperDual<N> operator*(double s, const HyperDual<N>& x) {
+  return x * s;
 }
 template <int N>
-inline HyperDual<N> operator/(HyperDual<N> x, double s) {
-  return x /= s;
+inline HyperDual<N> operator/(const HyperDual<N>& x, double s) {
+  return x * (1.0 / s);
 }
 template <int N>
 inline HyperDual<N> operator/(double s, const HyperDual<N>& x) {
