@@ -207,6 +207,25 @@ TEST(IndirectTest, AFirstStepSolvedInWindowsEndsOnTheSameLap) {
   EXPECT_THROW(SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, options, &unused), std::invalid_argument);
 }
 
+// A window's answer is the whole road's start, judged by its residuals alone: its constraints are
+// the whole road's to meet (SolveFirstStepInWindows, indirect.cc). With a constraint tolerance
+// no answer can meet, the windows still stand and the whole road's answer says what is wrong
+// with it; before, every window was rejected and the solver started again from the guess.
+TEST(IndirectTest, AWindowIsJudgedByItsResidualsAlone) {
+  const Vehicle v = Bx15();
+  const MeshedRoad p(v, StraightRoad(300.0), 2.0);
+  IndirectOptions options;
+  options.window_m = 150.0;
+  options.window_overlap_m = 50.0;
+  options.constraint_tolerance = -HUGE_VAL;
+  SolveSummary summary;
+  SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, options, &summary);
+  EXPECT_FALSE(summary.converged);
+  EXPECT_EQ(summary.message.find("a window failed"), std::string::npos) << summary.message;
+  EXPECT_NE(summary.message.find("constraint violated by"), std::string::npos) << summary.message;
+  EXPECT_LE(summary.max_residual, 10.0 * options.residual_tolerance);
+}
+
 // A design study's warm start (lap --init): the lap of one gear ratio as the start for another,
 // one continuation step above eps_end. With its first step by Newton's homotopy
 // (IndirectOptions::homotopy) it ends on the lap solved from the QSS guess (the same discrete
