@@ -51,12 +51,6 @@ std::string FormatLapTime(double seconds) {
   return text;
 }
 
-std::string SolveMessage(const SolveSummary& summary) {
-  std::string why = summary.message;
-  while (!why.empty() && (why.back() == ' ' || why.back() == ';')) why.pop_back();
-  return why;
-}
-
 std::string LapReportText(const LapSolution& sol, const SolveSummary& summary, const LapFigures& f,
                           const ResimReport& resim) {
   std::ostringstream o;

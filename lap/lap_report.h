@@ -12,10 +12,6 @@ namespace ttz::lap {
 // A time as minutes:seconds with tenths, "m:ss.s" (72.46 s -> "1:12.5").
 std::string FormatLapTime(double seconds);
 
-// Why the solve did not converge: the summary's message without its trailing separator ("" when
-// it converged).
-std::string SolveMessage(const SolveSummary& summary);
-
 // Lap time, average speed [km/h], energy used [MJ] and % of the pack, top speed [km/h], the
 // re-simulation's lap-time and largest state difference [%], converged.
 std::string LapReportText(const LapSolution& sol, const SolveSummary& summary, const LapFigures& f,

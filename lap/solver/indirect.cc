@@ -454,8 +454,7 @@ bool SolveWindow(const Vehicle& v, const RoadTrack& road, const std::vector<doub
          << (own ? "its own" : "the stitched") << " guess at eps " << o.eps_start << ": "
          << (ws.converged ? "converged" : "FAILED") << " in " << ws.iterations << " iterations, "
          << ws.solve_seconds << " s";
-    if (!ws.converged)  // why, without the message's trailing "; "
-      line << " (" << ws.message.substr(0, ws.message.find_last_not_of("; ") + 1) << ")";
+    if (!ws.converged) line << " (" << SolveMessage(ws) << ")";
     Log(LogKind::kInfo, line.str());
     if (ws.converged) return true;
   }

@@ -106,8 +106,8 @@ struct IndirectOptions {
   // (../shared/notes/lap-solver-prototype.md). The windows' steps come first in
   // SolveSummary::steps (their lap times those of their windows alone) and their iterations
   // count in SolveSummary::iterations. A window counts as solved on its residuals alone: its
-  // constraints are the whole road's to meet (docs/lap.md "A window's constraints"). 0 <= window_overlap_m < window_m, else SolveIndirect
-  // throws std::invalid_argument.
+  // constraints are the whole road's to meet (docs/lap.md "A window's constraints").
+  // 0 <= window_overlap_m < window_m, else SolveIndirect throws std::invalid_argument.
   double window_m = 0.0;
   double window_overlap_m = 1000.0;
   // The windows' homotopy_handoff. On the TT course (20 m, at most 0.5 s, 3 km windows) the first

@@ -78,4 +78,12 @@ struct SolveSummary {
   int control_failures = 0;                    // nodes whose H_u = 0 Newton did not converge
 };
 
+// Why the solve did not converge: the summary's message without its trailing separator ("" when
+// it converged).
+inline std::string SolveMessage(const SolveSummary& summary) {
+  std::string why = summary.message;
+  while (!why.empty() && (why.back() == ' ' || why.back() == ';')) why.pop_back();
+  return why;
+}
+
 }  // namespace ttz::lap
