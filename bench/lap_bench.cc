@@ -11,6 +11,7 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <optional>
 #include <stdexcept>
@@ -84,6 +85,8 @@ constexpr IndirectKey kIndirectKeys[] = {
     {"window_overlap_m", [](ttz::lap::IndirectOptions* o, double x) { o->window_overlap_m = x; }},
     {"window_min_m", [](ttz::lap::IndirectOptions* o, double x) { o->window_min_m = x; }},
     {"window_eps_end", [](ttz::lap::IndirectOptions* o, double x) { o->window_eps_end = x; }},
+    {"window_charge_price_s_per_j",
+     [](ttz::lap::IndirectOptions* o, double x) { o->window_charge_price_s_per_j = x; }},
     {"eps_end", [](ttz::lap::IndirectOptions* o, double x) { o->eps_end = x; }},
     {"num_threads", [](ttz::lap::IndirectOptions* o, double x) { o->num_threads = static_cast<int>(x); }},
     {"max_iterations", [](ttz::lap::IndirectOptions* o, double x) { o->max_iterations = static_cast<int>(x); }},
@@ -131,6 +134,7 @@ int Bench(int argc, char** argv) {
   ttz::SetLogLevel(2);  // progress (window, continuation steps) on stderr
   Settings settings;
   if (argc > 7) settings.indirect.eps_start = Number(argv[7], "EPS_START");
+  settings.indirect.window_charge_price_s_per_j = NAN;  // NaN: the QSS lap's, as `lap`
   for (int i = 8; i < argc; ++i) ParseSetting(argv[i], &settings);
   const IpoptOptions& ipopt = settings.ipopt;
   const Vehicle v = MakeVehicle(LoadBike(argv[2], settings.bike));
@@ -142,14 +146,17 @@ int Bench(int argc, char** argv) {
   if (argc > 6) mesh_options.dt_max_s = Number(argv[6], "DT_MAX_S");
   const double length = std::min(Number(argv[4], "LENGTH_M"), road.Length());
   const std::vector<double> mesh = LapMesh(v, road, length, mesh_options);
+  if (std::isnan(indirect.window_charge_price_s_per_j))
+    indirect.window_charge_price_s_per_j = QssChargePrice(v, road, mesh);
   const std::string which = argc > 5 ? argv[5] : "both";
   const QssLap centre = ComputeQss(v, road, mesh);
   const QssLap racing = ComputeQss(v, road, mesh, ComputeRacingLine(road, mesh, v.border_margin));
   // As `lap`: the racing line for the indirect solver, the centre line for Ipopt, unless `guess=`.
   const QssLap& for_indirect = settings.racing_line.value_or(true) ? racing : centre;
   const QssLap& for_ipopt = settings.racing_line.value_or(false) ? racing : centre;
-  std::printf("%zu nodes over %.1f m, QSS lap %.4f s on the centre line, %.4f s on the racing line\n", mesh.size(),
-              mesh.back(), centre.lap_time, racing.lap_time);
+  std::printf("%zu nodes over %.1f m, QSS lap %.4f s on the centre line, %.4f s on the racing line, "
+              "windows' charge price %.3f s/MJ\n", mesh.size(), mesh.back(), centre.lap_time, racing.lap_time,
+              1e6 * indirect.window_charge_price_s_per_j);
   std::printf("%-9s %10s %12s %5s %6s %9s %10s %11s %8s %9s %8s %-9s\n", "solver", "lap_s", "extrap_s",
               "conv", "iters", "wall_s", "s_per_iter", "cpu_us_node", "peak_MB", "resim_t%",
               "resim_x%", "worst");

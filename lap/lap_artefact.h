@@ -29,6 +29,7 @@ struct LapSolverOptions {
   double window_m = 0.0;          // the indirect solver's windows (IndirectOptions) [m]; 0 for Ipopt
   double window_overlap_m = 0.0;  // their overlap [m]; 0 for Ipopt
   double window_eps_end = 0.0;    // the weight the windows go down to [1]; 0 without windows
+  double window_charge_price_s_per_j = 0.0;  // at the windows' ends (IndirectOptions) [s/J]
 };
 
 // What lap.h5 records about the run besides the solution.

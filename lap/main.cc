@@ -194,8 +194,8 @@ IpoptOptions IpoptOptionsOf(const Arguments& a) {
 LapSolverOptions SolverOptionsOf(const Arguments& a, const IpoptOptions& ipopt, const IndirectOptions& indirect) {
   if (a.solver != "ipopt")
     return {indirect.max_iterations, "", "", 0.0, indirect.window_m, indirect.window_overlap_m,
-            indirect.window_m > 0.0 ? indirect.window_eps_end : 0.0};
-  return {ipopt.max_iterations, ipopt.mu_globalization, ipopt.mu_strategy, ipopt.mu_init, 0.0, 0.0, 0.0};
+            indirect.window_m > 0.0 ? indirect.window_eps_end : 0.0, indirect.window_charge_price_s_per_j};
+  return {ipopt.max_iterations, ipopt.mu_globalization, ipopt.mu_strategy, ipopt.mu_init, 0.0, 0.0, 0.0, 0.0};
 }
 
 // The longest roads on which the indirect solver converges with its default settings are 5 km;
@@ -235,6 +235,18 @@ void SetWindows(const Arguments& a, IndirectOptions* options) {
   throw ttz::InputError("--window-overlap", o.str());
 }
 
+// The windows' price on the charge left at their ends, from the QSS lap (QssChargePrice), when the
+// indirect solver will solve its first step in windows.
+void SetWindowChargePrice(const Vehicle& v, const RoadTrack& track, const std::vector<double>& mesh,
+                          IndirectOptions* options) {
+  if (options->window_m <= 0.0 || mesh.back() - mesh.front() <= options->window_m) return;
+  options->window_charge_price_s_per_j = QssChargePrice(v, track, mesh);
+  std::ostringstream o;
+  o << "windows: the charge left at their ends priced at " << 1e6 * options->window_charge_price_s_per_j
+    << " s/MJ (the QSS lap's time per MJ of the pack)";
+  ttz::Log(ttz::LogKind::kInfo, o.str());
+}
+
 int Run(const Arguments& a) {
   CheckOutputFolder(a.output);
   IndirectOptions options;
@@ -252,6 +264,7 @@ int Run(const Arguments& a) {
   const std::vector<double> mesh = mesh_from_init ? init->s : LapMesh(v, track, track.Length(), a.mesh);
   if (mesh_from_init) ttz::Log(ttz::LogKind::kInfo, "solving on the mesh of " + a.init);
   const QssLap qss = ComputeQss(v, track, mesh);
+  if (a.solver == "indirect") SetWindowChargePrice(v, track, mesh, &options);
   if (a.max_iterations > 0) options.max_iterations = a.max_iterations;
   options.verbose = a.verbose && !a.json;  // Ceres prints its iterations on stdout
   const Start start = init ? Start{WarmStartGuess(*init, v, mesh, qss, &options), "init", 0.0}

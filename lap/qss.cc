@@ -437,6 +437,13 @@ QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<dou
   return QssOn(v, rp, mesh);
 }
 
+double QssChargePrice(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh) {
+  constexpr double kLess = 0.05;  // share of e0 taken out
+  Vehicle less = v;
+  less.e0 = (1.0 - kLess) * v.e0;
+  return (ComputeQss(less, road, mesh).lap_time - ComputeQss(v, road, mesh).lap_time) / (kLess * v.e0);
+}
+
 QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh,
                   const RacingLine& line) {
   const int n = static_cast<int>(mesh.size());

@@ -78,6 +78,25 @@ TEST_F(QssPackTest, ASmallPackSpreadsItsEnergyOverTheLap) {
             << " J left\n";
 }
 
+// The QSS lap's price on charge (QssChargePrice): about 0 with the full pack, which lasts the lap
+// at full power; with the small pack the lap time per joule, which the backward difference and a
+// forward one (a pack 5 % fuller) give alike.
+TEST_F(QssPackTest, ChargeHasAPriceWhenThePackLimitsTheLap) {
+  const Vehicle full = Bx15();
+  const Vehicle small = Bx15({"battery.cell_energy_j=10000", "battery.energy_density_j_per_kg=9600"});
+  const double full_price = QssChargePrice(full, road, mesh);
+  const double price = QssChargePrice(small, road, mesh);
+  Vehicle fuller = small;
+  fuller.e0 *= 1.05;
+  const double forward = (ComputeQss(small, road, mesh).lap_time - ComputeQss(fuller, road, mesh).lap_time) /
+                         (0.05 * small.e0);
+  std::cout << "charge price: full pack " << full_price << " s/J, small pack " << price << " s/J (forward "
+            << forward << ")\n";
+  EXPECT_LT(std::abs(full_price), 1e-8);
+  EXPECT_GT(price, 0.0);
+  EXPECT_NEAR(forward, price, 0.2 * price);
+}
+
 // On a 200 m sprint with a 0.24 MJ pack (the small pack of analytic_test) spending the pack at full
 // power first and coasting on the speed it gave is faster than any one limit (measured: 9.550 s
 // against 10.428 s), so the QSS takes it and ends with an empty pack.

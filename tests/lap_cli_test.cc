@@ -477,6 +477,9 @@ TEST_F(LapCli, TheIndirectSolverSolvesInWindowsWhenAsked) {
   EXPECT_EQ(windows.ReadDoubleAttribute("window_overlap_m"), 50.0);
   EXPECT_EQ(whole.ReadDoubleAttribute("window_eps_end"), 0.0);
   EXPECT_EQ(windows.ReadDoubleAttribute("window_eps_end"), ttz::lap::IndirectOptions{}.window_eps_end);
+  // the QSS lap's price on charge (QssChargePrice): ~0, the full pack lasts this lap at full power
+  EXPECT_EQ(whole.ReadDoubleAttribute("window_charge_price"), 0.0);
+  EXPECT_NEAR(windows.ReadDoubleAttribute("window_charge_price"), 0.0, 1e-8);
   // more steps than the whole road's continuation: the windows' come first (SolveSummary::steps)
   EXPECT_GT(windows.ReadVector("continuation/eps", "1").size(), whole.ReadVector("continuation/eps", "1").size());
   EXPECT_NEAR(windows.ReadDoubleAttribute("lap_time"), whole.ReadDoubleAttribute("lap_time"),

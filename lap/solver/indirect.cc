@@ -488,6 +488,7 @@ bool SolveFirstStepInWindows(const Vehicle& v, const RoadTrack& road,
     int b = a;
     while (b + 1 < n && mesh[b] < mesh[a] + length) ++b;
     const bool last = b + 1 == n;
+    window.end_charge_price_s_per_j = last ? 0.0 : options.window_charge_price_s_per_j;
     LapSolution sol;
     if (!SolveWindow(v, road, mesh, a, b, window, *x_guess, *u_guess, &sol, summary)) {
       length *= 0.5;  // a shorter window from the same start, with the same overlap
@@ -561,6 +562,7 @@ LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
   Transcription tr =
       MakeTranscription(v, road, mesh, x_guess, lambda_guess, u_guess, options.num_threads,
                         options.node_constraints);
+  tr.end_charge_price = options.end_charge_price_s_per_j;
   ceres::Problem::Options popts;
   MidpointCallback callback(&tr);
   popts.evaluation_callback = &callback;

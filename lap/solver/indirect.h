@@ -137,6 +137,17 @@ struct IndirectOptions {
   // (QssWindowGuess, lap/qss.h): on the TT course the window at 20-22.5 km failed from the
   // stitched guess and converges from that one (docs/lap.md "A guess for every window").
   WindowGuess window_guess;
+  // A price on the charge left at the road's end [s/J]: the terminal cost -price e(s_end) added
+  // to the lap time, so that the solve values a joule left in the pack at `price` seconds (0: the
+  // lap's own free end, eq. 38). The windows set it at their free ends (below).
+  double end_charge_price_s_per_j = 0.0;
+  // The end_charge_price_s_per_j of every window but the last (0: none). A window's free end
+  // spends the pack as if the rest of the lap needed no charge: on the TT course with
+  // data/bx15.yaml's bike, whose lap is limited by its pack, the windows from 44.5 km on failed in
+  // the charge's equations, and with 7 s/MJ at their ends every window converged (the whole
+  // road's own lambda_e came to ~8.6 s/MJ; docs/lap.md "The charge's price at the windows'
+  // ends"). lap gives the QSS lap's time per joule of the pack (QssChargePrice, lap/qss.h).
+  double window_charge_price_s_per_j = 0.0;
   // The condition above on window_m and window_overlap_m.
   bool WindowsAreValid() const {
     return window_m <= 0.0 || (window_overlap_m >= 0.0 && window_overlap_m < window_m);

@@ -226,6 +226,64 @@ TEST(IndirectTest, AWindowIsJudgedByItsResidualsAlone) {
   EXPECT_LE(summary.max_residual, 10.0 * options.residual_tolerance);
 }
 
+// A price p on the charge left at the end (IndirectOptions::end_charge_price_s_per_j) makes the
+// solve minimise T - p e(s_N): the end's lambda_e is -p in scaled units, and a dearer charge buys a
+// slower lap that leaves more of it. Between the optima at two prices p1 < p2 the lap time per
+// joule saved, (T2 - T1) / (e2 - e1), lies in [p1, p2] (each optimum beats the other at its own
+// price), up to the barrier's share of the cost (eps_end).
+TEST(IndirectTest, APriceOnTheChargeLeftTradesLapTimeForCharge) {
+  const Vehicle v = Bx15();
+  const MeshedRoad p(v, StraightRoad(300.0), 2.0);
+  const auto solve = [&](double price) {
+    IndirectOptions options;
+    options.end_charge_price_s_per_j = price;
+    SolveSummary summary;
+    const LapSolution sol = SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, options, &summary);
+    EXPECT_TRUE(summary.converged) << summary.message;
+    return sol;
+  };
+  const double p1 = 2e-6, p2 = 4e-6;  // [s/J]: 2 and 4 s/MJ
+  const LapSolution free = solve(0.0), a = solve(p1), b = solve(p2);
+  EXPECT_EQ(free.lambda.back()[kE], 0.0);
+  EXPECT_NEAR(a.lambda.back()[kE], -p1 * DefaultScales(v).state[kE], 1e-12);
+  EXPECT_GT(a.x.back()[kE], free.x.back()[kE]);
+  EXPECT_GT(b.x.back()[kE], a.x.back()[kE]);
+  EXPECT_GT(a.lap_time, free.lap_time);
+  const double slope = (b.lap_time - a.lap_time) / (b.x.back()[kE] - a.x.back()[kE]);
+  std::cout << "laps " << free.lap_time << ", " << a.lap_time << ", " << b.lap_time << " s; charge left "
+            << free.x.back()[kE] << ", " << a.x.back()[kE] << ", " << b.x.back()[kE]
+            << " J; slope " << slope << " s/J\n";
+  EXPECT_GE(slope, 0.9 * p1);
+  EXPECT_LE(slope, 1.1 * p2);
+}
+
+// The windows' price (IndirectOptions::window_charge_price_s_per_j) sits at every window's end but
+// the last: it changes the windows' answers (each a slower lap of its window) and not the whole
+// road's, which has its own free end.
+TEST(IndirectTest, ThePriceAtTheWindowsEndsLeavesTheLap) {
+  const Vehicle v = Bx15();
+  const MeshedRoad p(v, StraightRoad(300.0), 2.0);
+  const auto solve = [&](double price) {
+    IndirectOptions options;
+    options.window_m = 150.0;
+    options.window_overlap_m = 50.0;
+    options.window_charge_price_s_per_j = price;
+    SolveSummary summary;
+    const LapSolution sol = SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, options, &summary);
+    EXPECT_TRUE(summary.converged) << summary.message;
+    return std::make_pair(sol, summary.steps);
+  };
+  const auto [free, free_steps] = solve(0.0);
+  const auto [priced, priced_steps] = solve(4e-6);
+  EXPECT_NEAR(priced.lap_time, free.lap_time, 1e-6 * free.lap_time);
+  // The first window's first step (steps[0], its midpoints' solve at the same weight) is slower.
+  ASSERT_FALSE(free_steps.empty());
+  ASSERT_FALSE(priced_steps.empty());
+  std::cout << "first window's first step: " << free_steps[0].lap_time << " s free, "
+            << priced_steps[0].lap_time << " s priced\n";
+  EXPECT_GT(priced_steps[0].lap_time, free_steps[0].lap_time + 1e-4);
+}
+
 // A design study's warm start (lap --init): the lap of one gear ratio as the start for another,
 // one continuation step above eps_end. With its first step by Newton's homotopy
 // (IndirectOptions::homotopy) it ends on the lap solved from the QSS guess (the same discrete

@@ -128,6 +128,7 @@ void BuildProblem(Transcription* tr, ceres::Problem* problem) {
   }
   problem->SetManifold(tr->W(0), new ceres::SubsetManifold(kW, first_states));
   for (int i = kNumStates; i < kW; ++i) tr->W(n - 1)[i] = 0.0;
+  tr->W(n - 1)[kNumStates + kE] = -tr->end_charge_price * tr->sc.state[kE];
   problem->SetManifold(tr->W(n - 1), new ceres::SubsetManifold(kW, last_costates));
 }
 

@@ -48,6 +48,9 @@ struct Transcription {
   std::vector<RoadPoint> road_nodes;      // at the nodes
   std::vector<NodeBarrierData> nodes;     // the N + 1 nodes (node 0's stays zero)
   BarrierWeight weight{};        // set by the continuation before each solve
+  // Price on the charge left at s_N [s/J]: the terminal cost -price e(s_N), so that BuildProblem
+  // holds lambda~_e(s_N) = -price e_scale (IndirectOptions::end_charge_price_s_per_j).
+  double end_charge_price = 0.0;
   int threads = 1;               // for EvaluateMids
   bool all_valid = false;        // every midpoint valid after the last EvaluateMids
 
@@ -119,7 +122,8 @@ class MidpointCallback : public ceres::EvaluationCallback {
   Transcription* tr_;
 };
 
-// One residual block per interval; x(0) and lambda(s_f) = 0 held by SubsetManifolds.
+// One residual block per interval; x(0) and lambda(s_f) = dPhi/dx~ (zero but for
+// end_charge_price's lambda~_e) held by SubsetManifolds.
 void BuildProblem(Transcription* tr, ceres::Problem* problem);
 
 // Where the system's largest |residual| sits: interval [k, k+1] and component i of its block
