@@ -38,8 +38,7 @@ struct Arguments {
   std::string mu_globalization = IpoptOptions{}.mu_globalization;
   std::string mu_strategy = IpoptOptions{}.mu_strategy;
   double mu_init = IpoptOptions{}.mu_init;
-  double window_m = IndirectOptions{}.window_m;
-  double window_overlap_m = IndirectOptions{}.window_overlap_m;
+  std::optional<double> window_m, window_overlap_m;  // unset: LongRoadDefaults or IndirectOptions'
   double window_eps_end = IndirectOptions{}.window_eps_end;
   bool json = false, quiet = false, verbose = false;
 };
@@ -87,13 +86,12 @@ void DefineOptions(CLI::App& app, Arguments& a) {
       ->capture_default_str();
   app.add_option("--window", a.window_m,
                  "indirect: solve the first continuation step window by window, each this long [m] (0: the whole "
-                 "road at once; docs/lap.md \"Status\" says on which roads windows help)")
-      ->check(ttz::kNonNegativeNumber)
-      ->capture_default_str();
+                 "road at once); default 3000 on roads longer than 5.1 km, else 0 (docs/lap.md \"Status\")")
+      ->check(ttz::kNonNegativeNumber);
   app.add_option("--window-overlap", a.window_overlap_m,
-                 "indirect: the part of each window's end [m] that the next window solves again (less than --window)")
-      ->check(ttz::kNonNegativeNumber)
-      ->capture_default_str();
+                 "indirect: the part of each window's end [m] that the next window solves again (less than --window); "
+                 "default 500 on roads longer than 5.1 km, else 1000")
+      ->check(ttz::kNonNegativeNumber);
   app.add_option("--window-eps", a.window_eps_end,
                  "indirect: the barrier weight down to which each window follows the continuation before the whole "
                  "road's starts there (at or above the first step's weight: the first step alone)")
@@ -198,10 +196,14 @@ LapSolverOptions SolverOptionsOf(const Arguments& a, const IpoptOptions& ipopt, 
   return {ipopt.max_iterations, ipopt.mu_globalization, ipopt.mu_strategy, ipopt.mu_init, 0.0, 0.0, 0.0, 0.0};
 }
 
-// The longest roads on which the indirect solver converges with its default settings are 5 km;
-// beyond, it has converged only on the TT course, with windows and a price on rolling of 0.1
-// (docs/lap.md "Status").
+// The longest roads on which the indirect solver converges without windows are 5 km; beyond, it
+// has converged on the TT course in windows of 3000 m overlapping by 500 m, with 600 iterations
+// for a window's first step and a price on rolling of at least 0.1 (docs/lap.md "Status"): the
+// defaults on such roads (LongRoadDefaults) and data/bx15.yaml's price.
 constexpr double kIndirectLongestPlainRoadM = 5100.0;
+constexpr double kLongRoadWindowM = 3000.0, kLongRoadWindowOverlapM = 500.0;
+constexpr int kLongRoadMaxIterations = 600;
+constexpr double kLongRoadRollPrice = 0.1;  // [s^2/rad^2]
 
 // The one place that dispatches on --solver.
 LapSolution Solve(const Arguments& a, const Vehicle& v, const RoadTrack& track, const std::vector<double>& mesh,
@@ -216,22 +218,29 @@ LapSolution Solve(const Arguments& a, const Vehicle& v, const RoadTrack& track, 
   const SolverGuess& guess = start.guess;
   ttz::Log(ttz::LogKind::kInfo, o.str());
   if (a.solver == "ipopt") return SolveDirectIpopt(v, track, mesh, guess, ipopt, summary);
-  if (track.Length() > kIndirectLongestPlainRoadM)  // told now, not after an hour's failed solve
+  const bool as_proven = options.window_m > 0.0 && v.roll_rate_weight >= kLongRoadRollPrice;
+  if (track.Length() > kIndirectLongestPlainRoadM && !as_proven)  // told now, not after an hour's failed solve
     ttz::Log(ttz::LogKind::kWarning,
-             a.road + ": on a road longer than 5 km the indirect solver has converged only with --window 3000 "
-                      "--window-overlap 500 --max-iterations 600 and limits.roll_rate_weight_s2_per_rad2 = 0.1 "
-                      "(docs/lap.md \"Status\"); --solver ipopt needs neither");
+             a.road + ": on a road longer than 5 km the indirect solver has converged only in windows (the default "
+                      "there) and with limits.roll_rate_weight_s2_per_rad2 >= 0.1 (docs/lap.md \"Status\"); "
+                      "--solver ipopt needs neither");
   return SolveIndirect(v, track, mesh, guess.x, guess.lambda, guess.u, options, summary);
 }
 
-// The windows of the indirect solver's first step (IndirectOptions::window_m) from the command line.
-void SetWindows(const Arguments& a, IndirectOptions* options) {
-  options->window_m = a.window_m;
-  options->window_overlap_m = a.window_overlap_m;
+// The windows of the indirect solver's first step (IndirectOptions::window_m) from the command line
+// or, where it says nothing, on a road of `length` metres: those of the TT course on a road longer
+// than kIndirectLongestPlainRoadM (with their iteration limit, unless --max-iterations is given),
+// else IndirectOptions' (no windows).
+void SetWindows(const Arguments& a, double length, IndirectOptions* options) {
+  const bool long_road = length > kIndirectLongestPlainRoadM;
+  options->window_m = a.window_m.value_or(long_road ? kLongRoadWindowM : options->window_m);
+  options->window_overlap_m =
+      a.window_overlap_m.value_or(long_road ? kLongRoadWindowOverlapM : options->window_overlap_m);
+  if (long_road) options->max_iterations = kLongRoadMaxIterations;
   options->window_eps_end = a.window_eps_end;
   if (options->WindowsAreValid()) return;
   std::ostringstream o;
-  o << a.window_overlap_m << " m, expected less than --window (" << a.window_m << " m)";
+  o << options->window_overlap_m << " m, expected less than --window (" << options->window_m << " m)";
   throw ttz::InputError("--window-overlap", o.str());
 }
 
@@ -249,13 +258,13 @@ void SetWindowChargePrice(const Vehicle& v, const RoadTrack& track, const std::v
 
 int Run(const Arguments& a) {
   CheckOutputFolder(a.output);
-  IndirectOptions options;
-  SetWindows(a, &options);
   const ttz::RoadArtefact road = ttz::ReadRoad(a.road);
   const BikeParams bike = LoadBike(a.bike, a.overrides);
   CheckRoadFitsBike(road, a.road, bike);
   const Vehicle v = MakeVehicle(bike);
   const RoadTrack track(road, a.road);
+  IndirectOptions options;
+  SetWindows(a, track.Length(), &options);
   options.window_guess = QssWindowGuess(v, track);
   const std::string road_sha256 = ttz::FileSha256(a.road);
   const std::optional<WarmStart> init =

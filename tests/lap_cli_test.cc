@@ -236,14 +236,16 @@ TEST_F(LapCli, TheTimeLimitedMeshResolvesTheLaunch) {
 // from its states and its intervals' controls exactly: the same bike's lap restarts in under half
 // the iterations to the same lap, and a neighbouring gear, whose own mesh differs at the launch,
 // needs fewer iterations than from the QSS guess (measured: 74 cold, 49 warm, 17 to restart). The
-// bike has the 90 V motor voltage limit these figures were measured with (test_bike.h): with
-// data/bx15.yaml's 80 V gear 3.4 rides the limit on this road, and warm and cold took 53 each.
+// bike has the 90 V motor voltage limit and the c_r = 0 these figures were measured with
+// (test_bike.h): with data/bx15.yaml's 80 V gear 3.4 rides the limit on this road, and warm and
+// cold took 53 each.
 TEST_F(LapCli, AnIpoptLapWarmStartsIpoptOnItsOwnMesh) {
   ttz::RoadArtefact bend = StraightRoad(500.0);  // a 50 m radius left bend from 300 to 380 m
   for (size_t i = 300; i <= 380; ++i) bend.kappa[i] = 1.0 / 50.0;
   const std::string road = Road("bend.h5", bend);
   const std::string options = road + " " + kBike + " --ds 10 -q --solver ipopt --set " +
-                              ttz::lap::testing::kTestVoltageMaxSetting;
+                              ttz::lap::testing::kTestVoltageMaxSetting + " --set " +
+                              ttz::lap::testing::kTestRollPriceSetting;
   const std::string gear = " --set drive.gear_ratio=3.4";
   // Exit 0 or 4: the bend's curvature steps from 0 to 1/50 m^-1, and z_dot does not re-simulate.
   auto solved = [&](const std::string& arguments, const std::string& output) {
@@ -310,15 +312,26 @@ TEST_F(LapCli, ASolveThatDoesNotConvergeExits3AndStillWritesLapH5) {
   EXPECT_NE(r.ReadStringAttribute("message").find("continuation failed"), std::string::npos);
 }
 
-// On a road longer than 5 km, where the indirect solver needs windows and a price on rolling, the user
-// is told before it starts.
-TEST_F(LapCli, TheIndirectSolverWarnsOfARoadLongerThan5km) {
+// On a road longer than 5 km the indirect solver's first step is solved in the windows of the TT
+// course (3000 m, overlapping by 500 m, 600 iterations for a window's first step) unless the
+// command line says otherwise; lap.h5 records them. Where the road is short, or the bike has
+// less than the price on rolling with which the solver has converged on long roads
+// (data/bx15.yaml's 0.1), or the windows are switched off, the user is told before it starts.
+TEST_F(LapCli, ARoadLongerThan5kmIsSolvedInWindows) {
   const std::string long_road = Road("straight6km.h5", StraightRoad(6000.0));
-  const CliRun run = Lap(long_road + " " + kBike + " --ds 100 -q --max-iterations 1");
+  const std::string warning = long_road + ": on a road longer than 5 km the indirect solver has converged only";
+  const CliRun run = Lap(long_road + " " + kBike + " --ds 100 -q --max-iterations 1", "default.h5");
   EXPECT_EQ(run.exit_code, 3) << run.stderr_text;
-  EXPECT_NE(run.stderr_text.find(long_road + ": on a road longer than 5 km the indirect solver has converged only"),
-            std::string::npos)
-      << run.stderr_text;
+  EXPECT_EQ(run.stderr_text.find(warning), std::string::npos) << run.stderr_text;
+  const ttz::ArtefactReader windows(Path("default.h5"), "ttz.lap", 3);
+  EXPECT_EQ(windows.ReadDoubleAttribute("window_m"), 3000.0);
+  EXPECT_EQ(windows.ReadDoubleAttribute("window_overlap_m"), 500.0);
+  EXPECT_EQ(windows.ReadIntAttribute("max_iterations"), 1);  // given: not the long road's 600
+  for (const std::string& other : {std::string(" --window 0"), std::string(" --set limits.roll_rate_weight_s2_per_rad2=0")}) {
+    const CliRun warned = Lap(long_road + " " + kBike + " --ds 100 -q --max-iterations 1" + other, "other.h5");
+    EXPECT_EQ(warned.exit_code, 3) << warned.stderr_text;
+    EXPECT_NE(warned.stderr_text.find(warning), std::string::npos) << other << ": " << warned.stderr_text;
+  }
   const std::string short_road = Road("straight100.h5", StraightRoad(100.0));
   EXPECT_EQ(Lap(short_road + " " + kBike + " --ds 4 -q --max-iterations 1").stderr_text.find("longer than 5 km"),
             std::string::npos);
@@ -496,7 +509,8 @@ TEST_F(LapCli, BadOptions) {
   ExpectBadInput(Lap("road.h5 bike.yaml --dt-max -0.5"), "--dt-max: value -0.5 is not a non-negative number");
   ExpectBadInput(Lap("road.h5 bike.yaml --window -1"), "--window: value -1 is not a non-negative number");
   ExpectBadInput(Lap("road.h5 bike.yaml --window-eps 0"), "--window-eps: value 0 is not a positive number");
-  ExpectBadInput(Lap("road.h5 bike.yaml --window 500 --window-overlap 500"),
+  const std::string road = Road("straight100.h5", StraightRoad(100.0));
+  ExpectBadInput(Lap(road + " " + kBike + " --window 500 --window-overlap 500"),
                  "--window-overlap: 500 m, expected less than --window (500 m)");
 }
 

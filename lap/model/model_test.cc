@@ -226,7 +226,7 @@ TEST(ModelTest, EffortIsTheRidersWorkPerMetre) {
   const double per_second = v.yaw_accel_weight * 0.16 + v.torque_rate_weight * 250000.0 +
                             0.03 * x[kOmegaPhi] * x[kOmegaPhi];
   EXPECT_NEAR(EffortPerMetre(v, x, u, m), per_second / m.kin.sdot, 1e-15);
-  v.roll_rate_weight = 0.0;  // the reference bike: no price on rolling
+  v.roll_rate_weight = 0.0;  // the paper's model: no price on rolling
   EXPECT_NEAR(EffortPerMetre(v, x, u, m), (per_second - 0.03 * 0.01) / m.kin.sdot, 1e-15);
 }
 

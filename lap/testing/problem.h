@@ -1,6 +1,7 @@
-// The problem most lap tests start from: data/bx15.yaml's bike at 90 V (Bx15()), a road on a uniform mesh, and the
-// quasi-steady lap on that mesh (the solvers' guess, lap/qss.h). Tests only: TTZ_SOURCE_DIR is a
-// compile definition of the test targets (CMakeLists.txt, ttz_add_test).
+// The problem most lap tests start from: data/bx15.yaml's bike at 90 V and c_r = 0 (Bx15()), a
+// road on a uniform mesh, and the quasi-steady lap on that mesh (the solvers' guess, lap/qss.h).
+// Tests only: TTZ_SOURCE_DIR is a compile definition of the test targets (CMakeLists.txt,
+// ttz_add_test).
 #pragma once
 
 #include <string>
@@ -15,11 +16,11 @@
 
 namespace ttz::lap::testing {
 
-// The lap tests' bike: the reference bike, data/bx15.yaml, with the motor voltage limit of their
-// saved reference solutions (kTestVoltageMaxSetting, test_bike.h), then `overrides` as `--set`
-// gives them ("key.path=value").
+// The lap tests' bike: the reference bike, data/bx15.yaml, with the motor voltage limit and the
+// price on rolling of their saved reference solutions (kTestVoltageMaxSetting,
+// kTestRollPriceSetting, test_bike.h), then `overrides` as `--set` gives them ("key.path=value").
 inline Vehicle Bx15(const std::vector<std::string>& overrides = {}) {
-  std::vector<std::string> all{kTestVoltageMaxSetting};
+  std::vector<std::string> all{kTestVoltageMaxSetting, kTestRollPriceSetting};
   all.insert(all.end(), overrides.begin(), overrides.end());
   return MakeVehicle(LoadBike(std::string(TTZ_SOURCE_DIR) + "/data/bx15.yaml", all));
 }
