@@ -30,6 +30,15 @@ namespace {
 
 using namespace ttz::lap;
 
+// The longest roads on which the indirect solver converges without windows are 5 km; beyond, it
+// has converged on the TT course in windows of 3000 m overlapping by 500 m, with 600 iterations
+// for a window's first step and a price on rolling of at least 0.1 (docs/lap.md "Status"): the
+// defaults on such roads (SetWindows) and data/bx15.yaml's price.
+constexpr double kIndirectLongestPlainRoadM = 5100.0;
+constexpr double kLongRoadWindowM = 3000.0, kLongRoadWindowOverlapM = 500.0;
+constexpr int kLongRoadMaxIterations = 600;
+constexpr double kLongRoadRollPrice = 0.1;  // [s^2/rad^2]
+
 struct Arguments {
   std::string road, bike, output, init, solver = "indirect", guess;  // guess "": the solver's default (QssStart)
   std::vector<std::string> overrides;
@@ -38,7 +47,7 @@ struct Arguments {
   std::string mu_globalization = IpoptOptions{}.mu_globalization;
   std::string mu_strategy = IpoptOptions{}.mu_strategy;
   double mu_init = IpoptOptions{}.mu_init;
-  std::optional<double> window_m, window_overlap_m;  // unset: LongRoadDefaults or IndirectOptions'
+  std::optional<double> window_m, window_overlap_m;  // unset: SetWindows' defaults
   double window_eps_end = IndirectOptions{}.window_eps_end;
   bool json = false, quiet = false, verbose = false;
 };
@@ -68,7 +77,8 @@ void DefineOptions(CLI::App& app, Arguments& a) {
       ->check(CLI::IsMember({"racing-line", "centre-line"}));
   app.add_option("--max-iterations", a.max_iterations,
                  "iteration limit: Ceres iterations of the first continuation step (indirect, default " +
-                     std::to_string(IndirectOptions{}.max_iterations) + ") or Ipopt iterations (ipopt, default " +
+                     std::to_string(IndirectOptions{}.max_iterations) + ", " + std::to_string(kLongRoadMaxIterations) +
+                     " on roads longer than 5.1 km) or Ipopt iterations (ipopt, default " +
                      std::to_string(IpoptOptions{}.max_iterations) + ")")
       ->check(ttz::kPositiveNumber);
   app.add_option("--mu-globalization", a.mu_globalization,
@@ -196,15 +206,6 @@ LapSolverOptions SolverOptionsOf(const Arguments& a, const IpoptOptions& ipopt, 
   return {ipopt.max_iterations, ipopt.mu_globalization, ipopt.mu_strategy, ipopt.mu_init, 0.0, 0.0, 0.0, 0.0};
 }
 
-// The longest roads on which the indirect solver converges without windows are 5 km; beyond, it
-// has converged on the TT course in windows of 3000 m overlapping by 500 m, with 600 iterations
-// for a window's first step and a price on rolling of at least 0.1 (docs/lap.md "Status"): the
-// defaults on such roads (LongRoadDefaults) and data/bx15.yaml's price.
-constexpr double kIndirectLongestPlainRoadM = 5100.0;
-constexpr double kLongRoadWindowM = 3000.0, kLongRoadWindowOverlapM = 500.0;
-constexpr int kLongRoadMaxIterations = 600;
-constexpr double kLongRoadRollPrice = 0.1;  // [s^2/rad^2]
-
 // The one place that dispatches on --solver.
 LapSolution Solve(const Arguments& a, const Vehicle& v, const RoadTrack& track, const std::vector<double>& mesh,
                   const QssLap& qss, const Start& start, const IpoptOptions& ipopt,
@@ -273,7 +274,7 @@ int Run(const Arguments& a) {
   const std::vector<double> mesh = mesh_from_init ? init->s : LapMesh(v, track, track.Length(), a.mesh);
   if (mesh_from_init) ttz::Log(ttz::LogKind::kInfo, "solving on the mesh of " + a.init);
   const QssLap qss = ComputeQss(v, track, mesh);
-  if (a.solver == "indirect") SetWindowChargePrice(v, track, mesh, &options);
+  if (a.solver == "indirect" && !init) SetWindowChargePrice(v, track, mesh, &options);  // --init: no windows
   if (a.max_iterations > 0) options.max_iterations = a.max_iterations;
   options.verbose = a.verbose && !a.json;  // Ceres prints its iterations on stdout
   const Start start = init ? Start{WarmStartGuess(*init, v, mesh, qss, &options), "init", 0.0}
