@@ -146,10 +146,10 @@ int Bench(int argc, char** argv) {
   if (argc > 6) mesh_options.dt_max_s = Number(argv[6], "DT_MAX_S");
   const double length = std::min(Number(argv[4], "LENGTH_M"), road.Length());
   const std::vector<double> mesh = LapMesh(v, road, length, mesh_options);
-  if (std::isnan(indirect.window_charge_price_s_per_j))
-    indirect.window_charge_price_s_per_j = QssChargePrice(v, road, mesh);
   const std::string which = argc > 5 ? argv[5] : "both";
   const QssLap centre = ComputeQss(v, road, mesh);
+  if (std::isnan(indirect.window_charge_price_s_per_j))
+    indirect.window_charge_price_s_per_j = QssChargePrice(v, road, mesh, centre);
   const QssLap racing = ComputeQss(v, road, mesh, ComputeRacingLine(road, mesh, v.border_margin));
   // As `lap`: the racing line for the indirect solver, the centre line for Ipopt, unless `guess=`.
   const QssLap& for_indirect = settings.racing_line.value_or(true) ? racing : centre;

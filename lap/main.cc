@@ -245,12 +245,12 @@ void SetWindows(const Arguments& a, double length, IndirectOptions* options) {
   throw ttz::InputError("--window-overlap", o.str());
 }
 
-// The windows' price on the charge left at their ends, from the QSS lap (QssChargePrice), when the
-// indirect solver will solve its first step in windows.
+// The windows' price on the charge left at their ends, from the QSS lap `qss` on the centre line
+// (QssChargePrice), when the indirect solver will solve its first step in windows.
 void SetWindowChargePrice(const Vehicle& v, const RoadTrack& track, const std::vector<double>& mesh,
-                          IndirectOptions* options) {
-  if (options->window_m <= 0.0 || mesh.back() - mesh.front() <= options->window_m) return;
-  options->window_charge_price_s_per_j = QssChargePrice(v, track, mesh);
+                          const QssLap& qss, IndirectOptions* options) {
+  if (!options->SolvesInWindows(mesh.back() - mesh.front())) return;
+  options->window_charge_price_s_per_j = QssChargePrice(v, track, mesh, qss);
   std::ostringstream o;
   o << "windows: the charge left at their ends priced at " << 1e6 * options->window_charge_price_s_per_j
     << " s/MJ (the QSS lap's time per MJ of the pack)";
@@ -274,7 +274,7 @@ int Run(const Arguments& a) {
   const std::vector<double> mesh = mesh_from_init ? init->s : LapMesh(v, track, track.Length(), a.mesh);
   if (mesh_from_init) ttz::Log(ttz::LogKind::kInfo, "solving on the mesh of " + a.init);
   const QssLap qss = ComputeQss(v, track, mesh);
-  if (a.solver == "indirect" && !init) SetWindowChargePrice(v, track, mesh, &options);  // --init: no windows
+  if (a.solver == "indirect" && !init) SetWindowChargePrice(v, track, mesh, qss, &options);  // --init: no windows
   if (a.max_iterations > 0) options.max_iterations = a.max_iterations;
   options.verbose = a.verbose && !a.json;  // Ceres prints its iterations on stdout
   const Start start = init ? Start{WarmStartGuess(*init, v, mesh, qss, &options), "init", 0.0}

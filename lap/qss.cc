@@ -437,11 +437,12 @@ QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<dou
   return QssOn(v, rp, mesh);
 }
 
-double QssChargePrice(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh) {
+double QssChargePrice(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh,
+                      const QssLap& qss) {
   constexpr double kLess = 0.05;  // share of e0 taken out
   Vehicle less = v;
   less.e0 = (1.0 - kLess) * v.e0;
-  return (ComputeQss(less, road, mesh).lap_time - ComputeQss(v, road, mesh).lap_time) / (kLess * v.e0);
+  return (ComputeQss(less, road, mesh).lap_time - qss.lap_time) / (kLess * v.e0);
 }
 
 QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh,

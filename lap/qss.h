@@ -44,10 +44,12 @@ double MaxTractionForce(const Vehicle& v, double V, double e, double T);
 QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh);
 
 // The lap time that a joule more in the pack at the start saves the QSS lap on the centre line
-// [s/J]: (T(0.95 e0) - T(e0)) / (0.05 e0) by ComputeQss. About 0 when the pack lasts the lap at
-// full power with 5 % to spare; an estimate of the optimal lap's price on charge, lambda_e, where
-// the pack limits the lap (the indirect solver's IndirectOptions::window_charge_price_s_per_j).
-double QssChargePrice(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh);
+// [s/J]: (T(0.95 e0) - T(e0)) / (0.05 e0) by ComputeQss, `qss` being the caller's ComputeQss(v,
+// road, mesh) (T(e0)). About 0 when the pack lasts the lap at full power with 5 % to spare; an
+// estimate of the optimal lap's price on charge, lambda_e, where the pack limits the lap (the
+// indirect solver's IndirectOptions::window_charge_price_s_per_j).
+double QssChargePrice(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh,
+                      const QssLap& qss);
 
 // The same on a racing line (racing_line.h) instead of the centre line: each node's quasi-steady
 // state on a path of the line's curvature, with the line's offset n and heading alpha (tan of

@@ -84,12 +84,12 @@ TEST_F(QssPackTest, ASmallPackSpreadsItsEnergyOverTheLap) {
 TEST_F(QssPackTest, ChargeHasAPriceWhenThePackLimitsTheLap) {
   const Vehicle full = Bx15();
   const Vehicle small = Bx15({"battery.cell_energy_j=10000", "battery.energy_density_j_per_kg=9600"});
-  const double full_price = QssChargePrice(full, road, mesh);
-  const double price = QssChargePrice(small, road, mesh);
+  const QssLap q_small = ComputeQss(small, road, mesh);
+  const double full_price = QssChargePrice(full, road, mesh, ComputeQss(full, road, mesh));
+  const double price = QssChargePrice(small, road, mesh, q_small);
   Vehicle fuller = small;
   fuller.e0 *= 1.05;
-  const double forward = (ComputeQss(small, road, mesh).lap_time - ComputeQss(fuller, road, mesh).lap_time) /
-                         (0.05 * small.e0);
+  const double forward = (q_small.lap_time - ComputeQss(fuller, road, mesh).lap_time) / (0.05 * small.e0);
   std::cout << "charge price: full pack " << full_price << " s/J, small pack " << price << " s/J (forward "
             << forward << ")\n";
   EXPECT_LT(std::abs(full_price), 1e-8);

@@ -314,9 +314,9 @@ TEST_F(LapCli, ASolveThatDoesNotConvergeExits3AndStillWritesLapH5) {
 
 // On a road longer than 5 km the indirect solver's first step is solved in the windows of the TT
 // course (3000 m, overlapping by 500 m, 600 iterations for a window's first step) unless the
-// command line says otherwise; lap.h5 records them. Where the road is short, or the bike has
-// less than the price on rolling with which the solver has converged on long roads
-// (data/bx15.yaml's 0.1), or the windows are switched off, the user is told before it starts.
+// command line says otherwise; lap.h5 records them. Where the bike has less than the price on
+// rolling with which the solver has converged on long roads (data/bx15.yaml's 0.1), or the windows
+// are switched off, the user is told before it starts; on a short road not.
 TEST_F(LapCli, ARoadLongerThan5kmIsSolvedInWindows) {
   const std::string long_road = Road("straight6km.h5", StraightRoad(6000.0));
   const std::string warning = long_road + ": on a road longer than 5 km the indirect solver has converged only";

@@ -536,7 +536,7 @@ LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
   const auto start = std::chrono::steady_clock::now();
   if (!options.WindowsAreValid())
     throw std::invalid_argument("IndirectOptions: window_overlap_m must lie in [0, window_m)");
-  if (options.window_m > 0.0 && lambda_guess.empty() && mesh.back() - mesh.front() > options.window_m) {
+  if (lambda_guess.empty() && options.SolvesInWindows(mesh.back() - mesh.front())) {
     std::vector<StateVector<double>> x = x_guess, lambda;
     std::vector<ControlVector<double>> u = u_guess;
     SolveSummary windows;

@@ -148,6 +148,9 @@ struct IndirectOptions {
   // road's own lambda_e came to ~8.6 s/MJ; docs/lap.md "The charge's price at the windows'
   // ends"). lap gives the QSS lap's time per joule of the pack (QssChargePrice, lap/qss.h).
   double window_charge_price_s_per_j = 0.0;
+  // Whether a solve from a guess without costates on a road of `length` metres takes its first
+  // step in windows (window_m above).
+  bool SolvesInWindows(double length) const { return window_m > 0.0 && length > window_m; }
   // The condition above on window_m and window_overlap_m.
   bool WindowsAreValid() const {
     return window_m <= 0.0 || (window_overlap_m >= 0.0 && window_overlap_m < window_m);
