@@ -88,6 +88,7 @@ constexpr IndirectKey kIndirectKeys[] = {
     {"window_charge_price_s_per_j",
      [](ttz::lap::IndirectOptions* o, double x) { o->window_charge_price_s_per_j = x; }},
     {"eps_end", [](ttz::lap::IndirectOptions* o, double x) { o->eps_end = x; }},
+    {"eps_floor", [](ttz::lap::IndirectOptions* o, double x) { o->eps_floor = x; }},
     {"num_threads", [](ttz::lap::IndirectOptions* o, double x) { o->num_threads = static_cast<int>(x); }},
     {"max_iterations", [](ttz::lap::IndirectOptions* o, double x) { o->max_iterations = static_cast<int>(x); }},
     {"path_tolerance", [](ttz::lap::IndirectOptions* o, double x) { o->path_tolerance = x; }},

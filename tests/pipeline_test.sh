@@ -1,8 +1,9 @@
 #!/bin/sh
 # The TT Zero pipeline (pipelines/Makefile) on the first 3 km of the Snaefell course, so that CI
-# exercises it end to end: course -> road.h5 -> reference lap -> plots, then two-point gear and
-# battery studies (the second battery point warm-started from the first), the report of the
-# studies so far, and the retries of a solve.
+# exercises it end to end: course -> road.h5 -> reference lap -> plots with the pipelines' own
+# solver (LAP_FLAGS: the indirect solver), then two-point gear and battery studies by Ipopt (the
+# second battery point warm-started from the first), the report of the studies so far, and the
+# retries of an Ipopt solve.
 # Usage: pipeline_test.sh BUILD_DIR SHARED_DATA
 set -eu
 build=$1 shared=$2
@@ -11,6 +12,8 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
 run_make() { make --no-print-directory -C "$here/../pipelines" BIN="$build" OUT="$out" SHARED="$shared" PIECE_M=3000 "$@"; }
+# The pipelines' Ipopt path (warm starts with NEIGHBOUR_FLAGS, retries): LAP_FLAGS until session 44.
+ipopt="--solver ipopt --ds 10"
 
 run_make run
 d=$out/snaefell-3000m
@@ -18,6 +21,8 @@ for f in road.h5 reference/lap.h5 reference/plots/summary.md reference/plots/spe
   [ -s "$d/$f" ] || fail "$d/$f missing"
 done
 grep -q "^converged      yes" "$d/reference/lap.txt" || fail "the reference lap did not converge: $(cat "$d/reference/lap.txt")"
+/usr/bin/python3 -c 'import sys, h5py; s = h5py.File(sys.argv[1]).attrs["solver"]; sys.exit((s.decode() if isinstance(s, bytes) else s) != "indirect")' \
+  "$d/reference/lap.h5" || fail "the reference lap is not the indirect solver's"
 
 # Dry runs (nothing solved): on the whole course the calibration's lap at the fitted value is the
 # reference lap unless the calibration solves with other flags.
@@ -57,7 +62,7 @@ solved=$(echo "$plan" | grep -- "--ds 40 --dt-max 1" | grep -o "studies-quick/[a
 # WARM_START=yes: the gear study starts cold; the battery study from the largest pack down, each
 # point after the first from its nearest solved neighbour with NEIGHBOUR_FLAGS (a monotone barrier
 # from 1e-4).
-run_make gear battery GEARS="3.0 3.4" PACK_MJ="40 45" WARM_START=yes -j1
+run_make gear battery GEARS="3.0 3.4" PACK_MJ="40 45" WARM_START=yes LAP_FLAGS="$ipopt" -j1
 for p in gear/3.0 gear/3.4 battery/40 battery/45; do [ -s "$d/studies/$p/lap.h5" ] || fail "$p: no lap.h5"; done
 /usr/bin/python3 - "$d/studies" <<'PY'
 import sys, h5py
@@ -73,8 +78,11 @@ for point, init, strategy in (("gear/3.0", "", "adaptive"), ("gear/3.4", "", "ad
         print(point, a["lap_time"], "s")
 PY
 # The grid's warm start is along the pack: the same gear's lap, though another gear's is nearer.
-plan=$(run_make -n grid GRID_GEARS="3.0 3.4" GRID_MJ="40" WARM_START=yes)
+plan=$(run_make -n grid GRID_GEARS="3.0 3.4" GRID_MJ="40" WARM_START=yes LAP_FLAGS="$ipopt")
 echo "$plan" | grep -q "nearest_lap.py $d/studies/grid/3.0_40 --along 2" || fail "the grid's warm start: $plan"
+# The indirect solver's laps start cold whatever WARM_START says (pipelines/Makefile, WARM).
+! run_make -n grid GRID_GEARS="3.0 3.4" GRID_MJ="40" WARM_START=yes | grep -q "nearest_lap.py" ||
+  fail "WARM_START=yes warm-starts the indirect solver"
 # The report so far: a point not copied yet stands in by the lap it will copy (grid 2.8_51 by the
 # reference lap, 3.4_51 by gear 3.4); 2.8_37 and 3.4_37 are not solved.
 grid=$(run_make -n report-so-far GRID_GEARS="2.8 3.4" GRID_MJ="37 51" | grep -o -- "--grid [^\\]*")
@@ -94,7 +102,7 @@ done
 # is solved again from the nearest finished point of its study (gear 3.4) with NEIGHBOUR_FLAGS,
 # again for ATTEMPT_ITERATIONS, then from the QSS guess with RETRY_FLAGS; the attempts set aside
 # stay beside the lap.
-run_make gear GEARS=3.2 ATTEMPT_ITERATIONS=2 2> "$out/retry.log" > /dev/null ||
+run_make gear GEARS=3.2 ATTEMPT_ITERATIONS=2 LAP_FLAGS="$ipopt" 2> "$out/retry.log" > /dev/null ||
   fail "the retried gear 3.2: $(cat "$out/retry.log")"
 for note in "not converged (exit 3); solving again with --init $d/studies/gear/3.4/lap.h5 --mu-strategy monotone --mu-init 1e-4 --max-iterations 2" \
     "not converged (exit 3); solving again from the QSS guess with --mu-globalization kkt-error"; do
@@ -116,7 +124,7 @@ with h5py.File(f"{point}/lap-first-attempt.h5") as first, h5py.File(f"{point}/la
 PY
 # With no other point of its study solved, the second attempt is RETRY_FLAGS' and there is no
 # third: make fails with the last attempt kept as lap-failed.h5.
-! run_make "$d/studies/motors/3_4/lap.h5" ATTEMPT_ITERATIONS=2 2> "$out/alone.log" > /dev/null ||
+! run_make "$d/studies/motors/3_4/lap.h5" ATTEMPT_ITERATIONS=2 LAP_FLAGS="$ipopt" 2> "$out/alone.log" > /dev/null ||
   fail "motors 3_4 converged in 2 iterations"
 grep -q "solving again from the QSS guess with --mu-globalization kkt-error --max-iterations 2" "$out/alone.log" &&
   grep -q "no other point of the study has a lap to start from" "$out/alone.log" ||
@@ -126,7 +134,7 @@ p=$d/studies/motors/3_4
   fail "motors 3_4 left: $(ls "$p")"
 # Under make -j2 a point waits for the point before it along the pack: 60 MJ starts from the copy
 # of the gear study's 51 MJ point, which make would otherwise copy only after launching 60's solve.
-run_make grid GRID_GEARS="4.0" GRID_MJ="60 51" WARM_START=yes -j2
+run_make grid GRID_GEARS="4.0" GRID_MJ="60 51" WARM_START=yes LAP_FLAGS="$ipopt" -j2
 init=$(/usr/bin/python3 -c 'import sys, h5py; v = h5py.File(sys.argv[1]).attrs["init_file"]; print(v.decode() if isinstance(v, bytes) else v)' "$d/studies/grid/4.0_60/lap.h5")
 [ "$init" = "$d/studies/grid/4.0_51/lap.h5" ] || fail "grid 4.0_60 started from '$init', not from 4.0_51"
 echo "pipeline on 3 km: ok"

@@ -229,6 +229,26 @@ struct Continuation {
   std::string turning_point;           // where the solution turned, when it stopped at a turn
 };
 
+// Follows the solution curve (TraceCurve) from the last converged step of `c` down to
+// options.eps_end, appending its points to `summary` and the converged ones to `c` (the last two
+// give the extrapolation); the unknowns stay at its last converged point, whose residual levels
+// (those of the path's tolerance, or the final one at eps_end) become c's. 0 when eps_end was
+// reached, else the weight where the curve stopped (failed or turned).
+double FollowCurve(const IndirectOptions& options, Transcription* tr, Continuation* c,
+                   SolveSummary* summary) {
+  const double eps0 = c->good.back().eps;
+  std::vector<ContinuationStep> curve;
+  const bool reached = TraceCurve(options, tr, eps0, &curve, &c->turning_point);
+  for (const ContinuationStep& s : curve) {
+    summary->iterations += s.iterations;
+    summary->steps.push_back(s);
+    if (s.converged) c->good.push_back(s);
+  }
+  tr->weight = WeightFor(c->good.back().eps);
+  ResidualLevels(tr, &c->max_all, &c->max_state);
+  return reached ? 0.0 : curve.empty() ? eps0 : curve.back().eps;
+}
+
 Continuation RunContinuation(const IndirectOptions& options, Transcription* tr,
                              ceres::Problem* problem, SolveSummary* summary) {
   ceres::Solver::Options so = CeresOptions(options);
@@ -286,24 +306,10 @@ Continuation RunContinuation(const IndirectOptions& options, Transcription* tr,
       retries = 0;
       tr->KeepControlsAsStarts();
       if (last_step) break;
-      if (options.arclength) {  // the rest of the way along the curve (TraceCurve)
-        std::vector<ContinuationStep> curve;
-        const bool reached = TraceCurve(options, tr, eps, &curve, &c.turning_point);
-        for (const ContinuationStep& s : curve) {
-          summary->iterations += s.iterations;
-          summary->steps.push_back(s);
-        }
-        // TraceCurve leaves the unknowns at its last converged point, whose residual levels are
-        // those of the curve's tolerance (or the final one at eps_end)
-        for (const ContinuationStep& s : curve)
-          if (s.converged) c.good.push_back(s);  // the last two give the extrapolation
-        if (c.good.size() > 1) {
-          tr->weight = WeightFor(c.good.back().eps);
-          ResidualLevels(tr, &c.max_all, &c.max_state);
-          w_good = tr->w;
-          mids_good = tr->mids;
-        }
-        if (!reached) c.failed_eps = curve.empty() ? eps : curve.back().eps;
+      if (options.arclength) {  // the rest of the way along the curve
+        c.failed_eps = FollowCurve(options, tr, &c, summary);
+        w_good = tr->w;
+        mids_good = tr->mids;
         break;
       }
       factor = std::max(options.eps_factor, factor * factor);  // back towards the full step
@@ -378,11 +384,37 @@ double Extrapolate(const std::vector<ContinuationStep>& good) {
   return b.lap_time - (a.lap_time - b.lap_time) * b.eps / (a.eps - b.eps);
 }
 
+// The largest relative violation g_j of the answer's constraints (> 0: violated).
+double WorstViolation(const SolveSummary& summary) {
+  return *std::max_element(summary.max_violation.begin(), summary.max_violation.end());
+}
+
+// Below eps_end (IndirectOptions::eps_floor): while the answer of a continuation that reached its
+// end violates a constraint by more than constraint_tolerance, the curve is followed on down to
+// half the weight, to at most eps_floor; `sol` and the summary's violations are then those of its
+// last converged point. Stops at the first stretch that does not reach its end: the answer stays
+// at that stretch's last converged point, and the checks judge it.
+void FollowBelowEpsEnd(const IndirectOptions& options, const Vehicle& v, Transcription* tr,
+                       Continuation* c, SolveSummary* summary, LapSolution* sol) {
+  while (c->failed_eps == 0.0 && !c->good.empty() &&
+         WorstViolation(*summary) > options.constraint_tolerance &&
+         c->good.back().eps > options.eps_floor * (1 + 1e-12)) {
+    IndirectOptions deeper = options;
+    deeper.eps_end = std::max(options.eps_floor, 0.5 * c->good.back().eps);
+    std::ostringstream o;
+    o << "a constraint violated by " << WorstViolation(*summary) << " at eps "
+      << c->good.back().eps << ": the continuation goes on to eps " << deeper.eps_end;
+    Log(LogKind::kInfo, o.str());
+    const double stopped = FollowCurve(deeper, tr, c, summary);
+    *sol = NodeSolution(v, *tr, summary);
+    if (stopped > 0.0) return;
+  }
+}
+
 // The honesty checks of the answer: why it is not converged, or "" when it is.
 std::string Verdict(const IndirectOptions& options, const Continuation& c,
                     const SolveSummary& summary) {
-  const double worst = *std::max_element(summary.max_violation.begin(),
-                                         summary.max_violation.end());
+  const double worst = WorstViolation(summary);
   std::ostringstream why;
   if (c.failed_eps > 0.0) {
     why << "continuation failed at eps " << c.failed_eps;
@@ -591,6 +623,7 @@ LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
   }
   if (!c.good.empty()) tr.weight = WeightFor(c.good.back().eps);
   LapSolution sol = NodeSolution(v, tr, summary);
+  FollowBelowEpsEnd(options, v, &tr, &c, summary, &sol);
   sol.eps = tr.weight.eps;
   sol.lap_time_extrapolated = c.good.empty() ? sol.lap_time : Extrapolate(c.good);
   summary->max_residual = c.max_all;

@@ -26,6 +26,14 @@ struct IndirectOptions {
   // converges (docs/lap.md).
   double retry_eps_start = 0.1;
   double eps_end = 1e-4;         // last barrier weight [1]
+  // Where the answer at eps_end violates a constraint by more than constraint_tolerance, the
+  // continuation goes on down, halving the weight until the answer meets it, to at most this
+  // weight [1]: a relaxed barrier's overshoot (its quadratic beyond -delta, delta = 0.1 eps:
+  // hamiltonian.h) shrinks with eps, though not at once (the multiplier moves too). On the TT
+  // course the charge at the finish of a 25 MJ pack overshot by 1.24e-4 of the pack at eps 1e-4
+  // and by 6.6e-5 at 5e-5; a decade down at once, the residuals' floor at 1e-5 (~4e-8) missed
+  // the final 1e-8 (docs/lap.md "Below eps_end"). eps_floor = eps_end: never.
+  double eps_floor = 1e-6;
   double eps_factor = 0.7;       // eps_{k+1} = factor eps_k; halved in log on a failed step
   int max_retries = 4;           // failed continuation steps retried with a smaller factor
   int max_iterations = 300;      // Ceres iterations of the first continuation step

@@ -284,6 +284,46 @@ TEST(IndirectTest, ThePriceAtTheWindowsEndsLeavesTheLap) {
   EXPECT_GT(priced_steps[0].lap_time, free_steps[0].lap_time + 1e-4);
 }
 
+// Below eps_end (IndirectOptions::eps_floor): a pack of 48 kJ, a ninth of what the road's lap
+// at full current takes, ends the lap empty, and at eps_end the relaxed barrier lets the charge
+// overshoot zero (7.4e-6 of the pack when this test was written; with 2.5 kJ cells, 0.24 MJ, it
+// stays 2.2e-5 inside). With a constraint tolerance below that overshoot the continuation goes
+// on down until the charge meets it, and the answer converges; stopped at eps_end (eps_floor =
+// eps_end) the same answer says it did not. (Measured: 9.5e-6, 8.9e-6, 6.5e-6, 3.7e-6 and
+// 1.9e-6 at eps 5e-5 to 3.1e-6, halving: the overshoot shrinks with eps, but not at once.)
+TEST(IndirectTest, AConstraintOvershootAtEpsEndTakesTheContinuationLower) {
+  const Vehicle v = Bx15({"battery.cell_energy_j=500"});
+  const MeshedRoad p(v, StraightRoad(200.0), 4.0);
+  const auto solve = [&](double tolerance, double floor, SolveSummary* summary) {
+    IndirectOptions options;
+    options.constraint_tolerance = tolerance;
+    options.eps_floor = floor;
+    return SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, options, summary);
+  };
+  const double eps_end = IndirectOptions{}.eps_end;
+  SolveSummary at_end;
+  const LapSolution first = solve(HUGE_VAL, eps_end, &at_end);
+  ASSERT_TRUE(at_end.converged) << at_end.message;
+  const double overshoot = at_end.max_violation[kCharge];
+  ASSERT_GT(overshoot, 0.0) << "the charge does not overshoot at eps_end: nothing to test";
+  const double tolerance = overshoot / 3.0;
+  SolveSummary stopped, lower;
+  solve(tolerance, eps_end, &stopped);
+  EXPECT_FALSE(stopped.converged);
+  EXPECT_NE(stopped.message.find("constraint violated by"), std::string::npos) << stopped.message;
+  const LapSolution sol = solve(tolerance, IndirectOptions{}.eps_floor, &lower);
+  ASSERT_TRUE(lower.converged) << lower.message;
+  EXPECT_LE(lower.max_violation[kCharge], tolerance);
+  EXPECT_LT(sol.eps, eps_end);
+  EXPECT_LE(lower.max_residual, 10.0 * IndirectOptions{}.residual_tolerance);
+  // A smaller barrier weight can only speed the lap up, and not by much.
+  EXPECT_LT(sol.lap_time, first.lap_time);
+  EXPECT_GT(sol.lap_time, 0.999 * first.lap_time);
+  std::cout << "charge overshoot " << overshoot << " at eps " << first.eps << ", "
+            << lower.max_violation[kCharge] << " at eps " << sol.eps << "; lap " << first.lap_time
+            << " -> " << sol.lap_time << " s\n";
+}
+
 // A design study's warm start (lap --init): the lap of one gear ratio as the start for another,
 // one continuation step above eps_end. With its first step by Newton's homotopy
 // (IndirectOptions::homotopy) it ends on the lap solved from the QSS guess (the same discrete
