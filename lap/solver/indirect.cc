@@ -227,6 +227,7 @@ struct Continuation {
   double max_all = HUGE_VAL, max_state = HUGE_VAL;  // residual levels of the last converged step
   double failed_eps = 0.0;             // > 0 when the continuation gave up there
   std::string turning_point;           // where the solution turned, when it stopped at a turn
+  double below_end_stopped_eps = 0.0;  // > 0 when the curve below eps_end stopped there
 };
 
 // Follows the solution curve (TraceCurve) from the last converged step of `c` down to
@@ -405,9 +406,9 @@ void FollowBelowEpsEnd(const IndirectOptions& options, const Vehicle& v, Transcr
     o << "a constraint violated by " << WorstViolation(*summary) << " at eps "
       << c->good.back().eps << ": the continuation goes on to eps " << deeper.eps_end;
     Log(LogKind::kInfo, o.str());
-    const double stopped = FollowCurve(deeper, tr, c, summary);
+    c->below_end_stopped_eps = FollowCurve(deeper, tr, c, summary);
     *sol = NodeSolution(v, *tr, summary);
-    if (stopped > 0.0) return;
+    if (c->below_end_stopped_eps > 0.0) return;
   }
 }
 
@@ -421,6 +422,9 @@ std::string Verdict(const IndirectOptions& options, const Continuation& c,
     if (!c.turning_point.empty()) why << " (a turning point: " << c.turning_point << ")";
     why << "; ";
   }
+  if (c.below_end_stopped_eps > 0.0)
+    why << "the continuation below eps_end, for the constraints, stopped at eps "
+        << c.below_end_stopped_eps << "; ";
   if (!(c.max_all <= 10.0 * options.residual_tolerance)) why << "residual " << c.max_all << "; ";
   if (!(worst <= options.constraint_tolerance)) why << "constraint violated by " << worst << "; ";
   if (summary.control_failures > 0)
