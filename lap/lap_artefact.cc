@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 
 #include "common/artefact.h"
 #include "common/error.h"
@@ -171,8 +172,18 @@ void WriteAttributes(ArtefactWriter& w, const LapSolution& sol, const SolveSumma
   w.WriteAttribute("tool_version", TTZ_VERSION);
 }
 
-// The re-simulation check (lap/resimulate.h).
-void WriteResimAttributes(ArtefactWriter& w, const ResimReport& r) {
+// The re-simulation check (lap/resimulate.h): its summary as attributes, the scaled difference
+// of each state at each node as datasets.
+void WriteResim(ArtefactWriter& w, const ResimReport& r, size_t nodes) {
+  for (int i = 0; i < kNumStates; ++i) {
+    const std::string name = kStateNames[i];
+    std::vector<double> d(nodes, std::numeric_limits<double>::quiet_NaN());
+    if (r.state_difference.size() == nodes) d = Column(r.state_difference, i);
+    w.WriteVector("resim/" + name, d, "1",
+                  "re-simulated " + name + " minus the solution's, absolute, over resim_scale_" + name +
+                      " (0 at s = 0, NaN where not reached)");
+    w.WriteAttribute("resim_scale_" + name, r.scale[i]);
+  }
   w.WriteAttribute("resim_lap_time", r.lap_time);
   w.WriteAttribute("resim_lap_time_difference", r.lap_time_difference);
   w.WriteAttribute("resim_lap_time_relative", r.lap_time_relative);
@@ -224,7 +235,7 @@ void WriteLap(const std::string& path, const Vehicle& v, const LapSolution& sol,
   WriteQss(w, qss);
   WriteContinuation(w, summary);
   WriteAttributes(w, sol, summary, channels, qss, provenance);
-  WriteResimAttributes(w, resim);
+  WriteResim(w, resim, sol.s.size());
   w.Commit();
 }
 

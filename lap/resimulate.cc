@@ -154,6 +154,7 @@ bool Compare(const LapSolution& sol, size_t k, const Y& y, double abandon, Resim
   bool within = true;
   for (int i = 0; i < kNumStates; ++i) {
     const double d = std::abs(y[i] - sol.x[k][i]) / r->scale[i];
+    r->state_difference[k][i] = d;
     r->max_state_difference[i] = std::max(r->max_state_difference[i], d);
     if (d > r->max_state_difference_all) {
       r->max_state_difference_all = d;
@@ -224,6 +225,10 @@ ResimReport Resimulate(const Vehicle& v, const RoadTrack& road, const LapSolutio
     return r;
   }
   r.scale = StateScales(v, sol);
+  StateVector<double> unreached;
+  unreached.fill(std::numeric_limits<double>::quiet_NaN());
+  r.state_difference.assign(n, unreached);
+  r.state_difference.front().fill(0.0);  // the start: the solution's own state
   const Slope slope(v, road, sol);
   Integrator integrator(slope, v, options);
   for (size_t first = 0; first + 1 < sol.s.size() && r.message.empty(); ++r.windows) {

@@ -38,6 +38,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "lap/model/state.h"
 #include "lap/model/vehicle.h"
@@ -72,6 +73,9 @@ struct ResimReport {
   StateVector<double> scale{};        // per state: max(range along the solution, floor)
   StateVector<double> max_state_difference{};  // per state: max over nodes of |x_resim - x| / scale
   double max_state_difference_all = 0.0;       // the largest of those [1]
+  // per node and state: |x_resim - x| / scale [1], integrated from the start of the window the
+  // node ends (0 at the first node), NaN at the nodes not reached (past a window that diverged)
+  std::vector<StateVector<double>> state_difference;
   int worst_state = 0;                // the state and node s [m] of the largest
   double worst_s = 0.0;
   int windows = 0;                    // windows integrated

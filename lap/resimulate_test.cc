@@ -96,6 +96,24 @@ TEST(ResimulateTest, OneControlFarOffFails) {
   EXPECT_NE(r.message.find("differs by"), std::string::npos) << r.message;
 }
 
+TEST(ResimulateTest, ThePerNodeDifferencesShowWhereTheSolutionIsOff) {
+  const RoadTrack road(StraightRoad(100.0));
+  LapSolution sol = HandMadeLap(road, 2.0);
+  sol.u[20][kTorqueRate] += 4000.0;  // at s = 40 m
+  const ResimReport r = Resimulate(Bike(), road, sol, ResimOptions{});
+  ASSERT_EQ(r.state_difference.size(), sol.s.size());
+  for (double d : r.state_difference.front()) EXPECT_EQ(d, 0.0);  // the first window's start
+  size_t worst = 0;
+  for (size_t k = 0; k < sol.s.size(); ++k) {
+    if (sol.s[k] < 39.0) {  // the nodes before the intervals the change reaches
+      for (int i = 0; i < kNumStates; ++i) EXPECT_LT(r.state_difference[k][i], 1e-7) << kStateNames[i] << " at " << k;
+    }
+    if (r.state_difference[k][r.worst_state] > r.state_difference[worst][r.worst_state]) worst = k;
+  }
+  EXPECT_EQ(r.state_difference[worst][r.worst_state], r.max_state_difference_all);
+  EXPECT_EQ(sol.s[worst], r.worst_s);
+}
+
 TEST(ResimulateTest, ASolutionWithoutStatesFails) {
   const RoadTrack road(StraightRoad(100.0));
   LapSolution sol;

@@ -216,6 +216,11 @@ TEST_F(LapCli, AConvergedSolveThatFailsTheReSimulationExits4) {
   EXPECT_FALSE(r.ReadBoolAttribute("resim_passed"));
   EXPECT_GT(r.ReadDoubleAttribute("resim_max_state_difference"), 1e-3);
   EXPECT_EQ(r.ReadIntAttribute("nodes"), 3);
+  // Where: the worst state's difference at each node, the largest of them the attribute's.
+  const std::vector<double> worst = r.ReadVector("resim/" + r.ReadStringAttribute("resim_worst_state"), "1");
+  ASSERT_EQ(worst.size(), 3u);
+  EXPECT_EQ(worst[0], 0.0);
+  EXPECT_EQ(*std::max_element(worst.begin(), worst.end()), r.ReadDoubleAttribute("resim_max_state_difference"));
 }
 
 // The same with the default --dt-max 0.25 s: the launch's intervals shrink to 0.25 s of the QSS
