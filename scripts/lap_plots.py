@@ -10,6 +10,8 @@ Writes into OUTDIR (created if missing), each file atomically:
   motor.png          motor voltage [V], current [A], electric power [kW] (paper Fig. 9)
   power.png          power to the ground wheel/power vs power drawn battery/power [kW] (Fig. 11)
   yaw_roll.png       roll angle phi [deg] and yaw rate Omega_z [deg/s]
+  resim.png          (when the lap has resim/*) each state's re-simulation difference, scaled
+                     [1, log], with the check's 0.1 %: where the mesh does not resolve the dynamics
   map.png            (--road) the bike's path coloured by speed [km/h] on the road's local
                      east/north frame [km]; path = centre line + n along the model's right normal
   elevation.png      (--road) centre-line elevation z [m] and slope tan(sigma) [%] vs distance
@@ -28,6 +30,13 @@ import ttz_h5
 LAP_CHANNELS = ("state/V", "qss/V", "state/n", "state/phi",
                 "battery/voltage", "battery/current", "battery/power",
                 "motor/voltage", "motor/current", "motor/power", "wheel/power")
+# The states of resim/<state> in two panels: the path, speed and power train, whose differences
+# stay small, and the tyre, roll and heave modes, which the mesh resolves least (docs/lap.md
+# "Re-simulation").
+RESIM_PANELS = (("path and power train", ("n", "alpha", "V", "T", "e", "Omega_z", "tau_w")),
+                ("tyre, roll and heave", ("beta", "z", "phi", "omega_w", "omega_phi", "z_dot")))
+RESIM_TOLERANCE = 1e-3  # the check's 0.1 % (lap/resimulate.h)
+RESIM_FLOOR = 1e-12     # plotted in place of 0 (the first node) on the log axis
 ROAD_CHANNELS = ("s", "x", "y", "z", "theta", "sigma")
 ROAD_LENGTH_TOLERANCE_M = 1.0
 KMH = 3.6  # (km/h) per (m/s)
@@ -40,6 +49,9 @@ def read_lap(path):
     s = lap.data("s")
     channels = {name: lap.data(name, s.size) for name in LAP_CHANNELS}
     channels.update(s=s, Omega_z=ttz_h5.omega_z(lap, s.size), **{"qss/s": lap.data("qss/s")})
+    resim = [f"resim/{name}" for _, names in RESIM_PANELS for name in names]
+    if all(lap.has(name) for name in resim):  # added within version 3 (docs/lap_h5.md)
+        channels.update({name: lap.data(name, s.size) for name in resim})
     attrs = {name: lap.attr(name) for name in
              ("lap_time", "energy_used", "energy_fraction", "top_speed", "road_length")}
     attrs.update(converged=lap.attr("converged", int), message=lap.attr("message", str))
@@ -134,6 +146,24 @@ def yaw_roll_figure(plt, lap):
     return stacked_figure(plt, lap["s"], panels, "roll and yaw (right positive)")
 
 
+def resim_figure(plt, lap):
+    """Each state's scaled re-simulation difference resim/<state> [1] vs s, log scale, with the
+    check's tolerance."""
+    figure, axes = plt.subplots(len(RESIM_PANELS), 1, sharex=True, figsize=(10, 3.2 * len(RESIM_PANELS)))
+    for axis, (title, names) in zip(axes, RESIM_PANELS):
+        for name in names:
+            axis.semilogy(lap["s"] / 1e3, np.maximum(lap[f"resim/{name}"], RESIM_FLOOR), lw=0.6, label=name)
+        axis.axhline(RESIM_TOLERANCE, color="k", ls="--", lw=0.8, label="0.1 % (the check)")
+        axis.set_ylabel("difference / scale")
+        axis.set_title(title)
+        axis.legend(fontsize=7, ncol=4)
+        axis.grid(True, alpha=0.3)
+    distance_axis(axes[-1])
+    figure.suptitle("re-simulation: each state integrated from the window's start against the lap")
+    figure.tight_layout()
+    return figure
+
+
 def bike_path(lap, road):
     """East/north [m] of the bike: the centre line interpolated at the lap's s, moved by n
     (right positive) along the right normal (sin theta, -cos theta)."""
@@ -181,6 +211,8 @@ def figures(plt, lap, road):
         "power.png": lambda: power_figure(plt, lap),
         "yaw_roll.png": lambda: yaw_roll_figure(plt, lap),
     }
+    if "resim/n" in lap:
+        builders["resim.png"] = lambda: resim_figure(plt, lap)
     if road is not None:
         builders["map.png"] = lambda: map_figure(plt, lap, road)
         builders["elevation.png"] = lambda: elevation_figure(plt, road)

@@ -26,6 +26,7 @@ class LapPlotsTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
         road = fx.write_road(self.path("road.h5"))
         self.assert_ok(fx.run("lap_plots.py", lap, "--road", road, "-o", self.out))
         self.assert_files(PNGS_LAP + PNGS_ROAD)
+        self.assertFalse(os.path.exists(os.path.join(self.out, "resim.png")))  # no resim/* in the lap
         with open(os.path.join(self.out, "summary.md")) as handle:
             summary = handle.read()
         self.assertIn("1:40.0", summary)       # lap_time 100 s
@@ -41,6 +42,11 @@ class LapPlotsTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
             self.assert_files(PNGS_LAP + ("summary.md",))
             for name in PNGS_ROAD:
                 self.assertFalse(os.path.exists(os.path.join(self.out, name)))
+
+    def test_the_re_simulations_differences_when_the_lap_has_them(self):
+        lap = fx.write_lap(self.path("lap.h5"), version=3, resim=True)
+        self.assert_ok(fx.run("lap_plots.py", lap, "-o", self.out))
+        self.assert_files(PNGS_LAP + ("resim.png", "summary.md"))
 
     def refused(self, lap, *words, road=None):
         args = [lap, "-o", self.out] + (["--road", road] if road else [])

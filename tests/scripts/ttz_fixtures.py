@@ -41,12 +41,20 @@ def lap_channels(s):
             "wheel/power": (32e3 * ones, "W")}
 
 
-def write_lap(path, omega_group="control", schema="ttz.lap", version=1, drop=()):
-    """A lap of LAP_LENGTH_M with speed lap_speed(s); Omega_z under `omega_group`; datasets in
-    `drop` left out."""
+RESIM_STATES = ("n", "alpha", "V", "beta", "z", "phi", "omega_w", "T", "e", "omega_phi", "z_dot",
+                "Omega_z", "tau_w")
+
+
+def write_lap(path, omega_group="control", schema="ttz.lap", version=1, drop=(), resim=False):
+    """A lap of LAP_LENGTH_M with speed lap_speed(s); Omega_z under `omega_group`; with `resim`,
+    the re-simulation's differences resim/<state> (0 at the start, 1e-4 to 1e-2 along s);
+    datasets in `drop` left out."""
     s = np.linspace(0.0, LAP_LENGTH_M, LAP_NODES)
     channels = lap_channels(s)
     channels[f"{omega_group}/Omega_z"] = (0.1 * np.cos(s / 100), "rad/s")
+    if resim:
+        difference = np.where(s > 0.0, 1e-4 * 100.0 ** (s / LAP_LENGTH_M), 0.0)
+        channels.update({f"resim/{name}": (difference, "1") for name in RESIM_STATES})
     with h5py.File(path, "w") as h5:
         for name, (values, units) in channels.items():
             if name not in drop:
