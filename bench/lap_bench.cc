@@ -3,7 +3,8 @@
 // `lap`; `guess=racing-line|centre-line` sets both) on the mesh of `lap --ds DS_M --dt-max DT_MAX_S` (lap/mesh.h)
 // from 0 to LENGTH_M, printing lap time, convergence, iterations, wall time, time per iteration,
 // CPU time (all threads) per iteration and node, peak memory and the re-simulation check's
-// lap-time and largest state difference (not a test). KEY=VALUE arguments after EPS_START override
+// lap-time and largest state difference, and on a line below each state's largest difference
+// and how many nodes exceed 0.1 % (not a test). KEY=VALUE arguments after EPS_START override
 // bike.yaml values as `lap --set` does; `indirect.NAME=VALUE` sets the indirect solver's option NAME
 // (those of kIndirectKeys below, e.g. `indirect.window_m=3000`; `indirect.homotopy=0|1`),
 // `ipopt.NAME=VALUE` Ipopt's option NAME (e.g. `ipopt.print_level=5`). CPU time per iteration and node is the figure to compare across
@@ -44,7 +45,21 @@ double CpuSeconds() {
   return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
-// Solves by `solve` (a callable filling its SolveSummary) and prints one row of the table.
+// The re-simulation check state by state, on a line below the row: each state's largest scaled
+// difference [%] and, in brackets, the nodes where it exceeds `tolerance`.
+void PrintResimByState(const ttz::lap::ResimReport& r, double tolerance) {
+  using namespace ttz::lap;
+  std::printf("  re-simulation by state:");
+  for (int i = 0; i < kNumStates; ++i) {
+    const auto over = std::count_if(r.state_difference.begin(), r.state_difference.end(),
+                                    [&](const StateVector<double>& d) { return d[i] > tolerance; });
+    std::printf(" %s %.2g %% (%td)", kStateNames[i], 100.0 * r.max_state_difference[i], over);
+  }
+  std::printf("\n");
+}
+
+// Solves by `solve` (a callable filling its SolveSummary) and prints one row of the table and the
+// re-simulation's line.
 template <typename Solve>
 void Run(const char* solver, const ttz::lap::Vehicle& v, const ttz::lap::RoadTrack& road,
          size_t nodes, Solve solve) {
@@ -59,6 +74,7 @@ void Run(const char* solver, const ttz::lap::Vehicle& v, const ttz::lap::RoadTra
               s.solve_seconds, s.solve_seconds / std::max(1, s.iterations), cpu_us_per_node,
               PeakMegabytes(), 100.0 * r.lap_time_relative,
               100.0 * r.max_state_difference_all, kStateNames[r.worst_state], s.message.c_str());
+  PrintResimByState(r, ResimOptions{}.tolerance);
 }
 
 // TEXT as a number, all of it; else std::invalid_argument naming WHAT.

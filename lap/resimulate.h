@@ -73,8 +73,8 @@ struct ResimReport {
   StateVector<double> scale{};        // per state: max(range along the solution, floor)
   StateVector<double> max_state_difference{};  // per state: max over nodes of |x_resim - x| / scale
   double max_state_difference_all = 0.0;       // the largest of those [1]
-  // per node and state: |x_resim - x| / scale [1], integrated from the start of the window the
-  // node ends (0 at the first node), NaN at the nodes not reached (past a window that diverged)
+  // per node and state: |x_resim - x| / scale [1], x_resim integrated from the first node of the
+  // node's window (0 at s = 0), NaN at the nodes not reached (past a window that diverged)
   std::vector<StateVector<double>> state_difference;
   int worst_state = 0;                // the state and node s [m] of the largest
   double worst_s = 0.0;
