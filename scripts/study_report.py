@@ -151,6 +151,8 @@ class Point:
         self.iterations = lap.attr("iterations", int) if timed else None
         self.solve_seconds = lap.attr("solve_seconds") if timed else None
         self.attempts = set_aside_attempts(path)
+        meshed = "mesh_ds" in lap.h5.attrs and "mesh_dt_max" in lap.h5.attrs
+        self.mesh = (lap.attr("mesh_ds"), lap.attr("mesh_dt_max")) if meshed else None
 
     @property
     def solve_key(self):
@@ -455,6 +457,31 @@ def table(header, rows):
     return lines
 
 
+def status_lines(points):
+    """The points that did not converge (or a line saying all did), then those solved on another
+    mesh than the most of them."""
+    return not_converged_lines(points) + other_mesh_lines(points)
+
+
+def mesh_text(mesh):
+    """(ds [m], dt_max [s]) as `lap`'s flags."""
+    return f"--ds {mesh[0]:g} --dt-max {mesh[1]:g}"
+
+
+def other_mesh_lines(points):
+    """The points whose mesh differs from the most common one (pipelines/Makefile retries a
+    solve that did not converge on a finer mesh), or nothing when all share one."""
+    meshes = [p.mesh for p in points if p.mesh is not None]
+    if len(set(meshes)) <= 1:
+        return []
+    common = max(set(meshes), key=meshes.count)
+    others = [p for p in points if p.mesh is not None and p.mesh != common]
+    lines = [f"**{len(others)} of {len(points)} points on another mesh** than the others' "
+             f"({mesh_text(common)}); their lap times carry that mesh's own error:", ""]
+    lines += [f"- `{p.name}`: {mesh_text(p.mesh)}" for p in others]
+    return lines + [""]
+
+
 def not_converged_lines(points):
     """The list of points that did not converge, or a line saying all did."""
     bad = [p for p in points if not p.converged]
@@ -553,7 +580,7 @@ def gear_section(points, ref_gear):
     lines = [f"## Gear ratio (Fig. 12): {len(points)} points, gear {min(p.gear for p in points):g}"
              f" to {max(p.gear for p in points):g}", ""]
     lines += table(["quantity", "paper", "ours", "difference"], rows) + [""]
-    lines += not_converged_lines(points) + point_rows(points, "gear") + [""]
+    lines += status_lines(points) + point_rows(points, "gear") + [""]
     summary = f"gear: optimum {opt.gear:g}{flag(opt)} (lap {lap_text(opt.lap_time)})"
     summary += (f", gain over {ref_gear:g} {gain:.1f} s" if ref
                 else f", gear {ref_gear:g} not in the study")
@@ -592,7 +619,7 @@ def battery_section(points, ref_pack_mj):
     lines = [f"## Battery pack (Fig. 14): {len(points)} points, {smallest.pack_mj:.2f} to "
              f"{max(p.pack_mj for p in points):.2f} MJ", ""]
     lines += table(["quantity", "paper", "ours", "difference"], rows) + [""]
-    lines += not_converged_lines(points) + point_rows(points, "battery") + [""]
+    lines += status_lines(points) + point_rows(points, "battery") + [""]
     summary = (f"battery: minimum lap {lap_text(opt.lap_time)}{flag(opt)} with a {opt.pack_mj:.2f} "
                f"MJ pack (uses {100 * opt.energy_fraction:.1f} %)")
     return lines, summary + unconverged_note(points)
@@ -625,7 +652,7 @@ def grid_section(points, ref_gear, ref_pack_mj):
              f"{len(gears)} gears x {len(packs)} packs"
              + ("" if len(points) == len(gears) * len(packs) else " (incomplete grid)"), ""]
     lines += table(["quantity", "paper", "ours", "difference"], rows) + [""]
-    lines += not_converged_lines(points) + point_rows(points, "grid") + [""]
+    lines += status_lines(points) + point_rows(points, "grid") + [""]
     summary = (f"grid: minimum lap {lap_text(opt.lap_time)}{flag(opt)} at gear {opt.gear:g}, "
                f"{opt.pack_mj:.2f} MJ pack")
     return lines, summary + unconverged_note(points)
@@ -679,7 +706,7 @@ def motors_section(points):
              "Paper lap times as its text gives them (1566 s; its table prints 26m 7s).", ""]
     lines += table(["configuration", "paper lap", "our lap", "difference", "paper usage",
                     "our usage", "difference"], rows) + [""]
-    lines += not_converged_lines(points) + point_rows(points, "motors") + [""]
+    lines += status_lines(points) + point_rows(points, "motors") + [""]
     summary = "motors: " + "; ".join(
         f"{p.motors} motors {p.arrangement} {lap_text_whole(p.lap_time)} "
         f"{100 * p.energy_fraction:.0f} %{flag(p)}" for p in table1_order(points))
