@@ -34,7 +34,8 @@ Writes into OUTDIR (created if missing), each file atomically:
   report.md          per study, the paper's figures beside ours with the difference in percent,
                      (ours - paper) / paper (for locations such as the optimum gear the absolute
                      difference too; for percentages the difference in percentage points too),
-                     a table of every point, the points that did not converge, and what the
+                     a table of every point, the points that did not converge, those on
+                     another mesh than the most of them (mesh_ds, mesh_dt_max), and what the
                      studies cost to solve (each lap's `iterations` and `solve_seconds`; a lap
                      that several studies share, e.g. a copy of the reference lap, counts once;
                      beside a lap.h5, the attempts the pipeline set aside before it,
