@@ -206,10 +206,13 @@ std::string Verdict(const ResimReport& r, double tolerance) {
   if (!(r.lap_time_relative <= tolerance))
     m << "re-simulated lap time differs by " << 100.0 * r.lap_time_relative << " % (> " << 100.0 * tolerance
       << " %)";
-  if (!(r.max_state_difference_all <= tolerance))
+  if (!(r.max_state_difference_all <= tolerance)) {
     m << (m.tellp() > 0 ? "; " : "") << "re-simulated " << kStateNames[r.worst_state] << " differs by "
       << 100.0 * r.max_state_difference_all << " % of its scale at s = " << r.worst_s << " m (> "
-      << 100.0 * tolerance << " %)";
+      << 100.0 * tolerance << " %); the states over it:";
+    for (int i = 0; i < kNumStates; ++i)
+      if (!(r.max_state_difference[i] <= tolerance)) m << " " << kStateNames[i];
+  }
   return m.str();
 }
 

@@ -7,6 +7,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <set>
+#include <sstream>
+#include <string>
 
 #include "lap/model/dynamics.h"
 #include "lap/solver/ipopt_direct.h"
@@ -94,6 +98,13 @@ TEST(ResimulateTest, OneControlFarOffFails) {
   EXPECT_GT(r.max_state_difference_all, 1e-2);
   EXPECT_NEAR(r.worst_s, 40.0, 2.0) << kStateNames[r.worst_state];
   EXPECT_NE(r.message.find("differs by"), std::string::npos) << r.message;
+  // ... and names every state over the tolerance, and no other.
+  const size_t list = r.message.find("the states over it:");
+  ASSERT_NE(list, std::string::npos) << r.message;
+  std::istringstream words(r.message.substr(list + std::string("the states over it:").size()));
+  std::set<std::string> named{std::istream_iterator<std::string>(words), std::istream_iterator<std::string>()};
+  for (int i = 0; i < kNumStates; ++i)
+    EXPECT_EQ(named.count(kStateNames[i]), r.max_state_difference[i] > 1e-3 ? 1u : 0u) << kStateNames[i];
 }
 
 TEST(ResimulateTest, ThePerNodeDifferencesShowWhereTheSolutionIsOff) {
