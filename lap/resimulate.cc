@@ -135,18 +135,6 @@ class Integrator {
   double step_ = 0.0;  // the last accepted step's successor [m]; 0 at a window's start
 };
 
-// max(range of each state along the solution, floor) (resimulate.h).
-StateVector<double> StateScales(const Vehicle& v, const LapSolution& sol) {
-  StateVector<double> floor = DefaultScales(v).state, scale;
-  floor[kE] = kEnergyFloor * v.pack.e_i;
-  for (int i = 0; i < kNumStates; ++i) {
-    const auto [lo, hi] = std::minmax_element(sol.x.begin(), sol.x.end(), [i](const auto& a, const auto& b) {
-      return a[i] < b[i];
-    });
-    scale[i] = std::max((*hi)[i] - (*lo)[i], floor[i]);
-  }
-  return scale;
-}
 
 // Records the scaled differences of the re-simulated x at node k; false once one exceeds the
 // abandon threshold.
@@ -218,6 +206,18 @@ std::string Verdict(const ResimReport& r, double tolerance) {
 
 }  // namespace
 
+StateVector<double> ResimStateScales(const Vehicle& v, const LapSolution& sol) {
+  StateVector<double> floor = DefaultScales(v).state, scale;
+  floor[kE] = kEnergyFloor * v.pack.e_i;
+  for (int i = 0; i < kNumStates; ++i) {
+    const auto [lo, hi] = std::minmax_element(sol.x.begin(), sol.x.end(), [i](const auto& a, const auto& b) {
+      return a[i] < b[i];
+    });
+    scale[i] = std::max((*hi)[i] - (*lo)[i], floor[i]);
+  }
+  return scale;
+}
+
 ResimReport Resimulate(const Vehicle& v, const RoadTrack& road, const LapSolution& sol,
                        const ResimOptions& options) {
   ResimReport r;
@@ -227,7 +227,7 @@ ResimReport Resimulate(const Vehicle& v, const RoadTrack& road, const LapSolutio
     r.message = "no solution to re-simulate (fewer than two nodes with states, controls and times)";
     return r;
   }
-  r.scale = StateScales(v, sol);
+  r.scale = ResimStateScales(v, sol);
   StateVector<double> unreached;
   unreached.fill(std::numeric_limits<double>::quiet_NaN());
   r.state_difference.assign(n, unreached);

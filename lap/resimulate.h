@@ -81,6 +81,9 @@ struct ResimReport {
   int windows = 0;                    // windows integrated
 };
 
+// Each state's scale: max(range along sol.x, floor) (above).
+StateVector<double> ResimStateScales(const Vehicle& v, const LapSolution& sol);
+
 // Re-simulates `sol` (its s, x, u, t) on `road` with the vehicle `v`.
 ResimReport Resimulate(const Vehicle& v, const RoadTrack& road, const LapSolution& sol,
                        const ResimOptions& options);
