@@ -135,23 +135,26 @@ class Integrator {
   double step_ = 0.0;  // the last accepted step's successor [m]; 0 at a window's start
 };
 
+// Records the scaled differences of the re-simulated x at node k; returns the state whose is
+// the largest.
+int Record(const LapSolution& sol, size_t k, const Y& y, ResimReport* r) {
+  StateVector<double>& d = r->state_difference[k];
+  for (int i = 0; i < kNumStates; ++i) d[i] = std::abs(y[i] - sol.x[k][i]) / r->scale[i];
+  return static_cast<int>(std::max_element(d.begin(), d.end()) - d.begin());
+}
 
-// Records the scaled differences of the re-simulated x at node k; false once one exceeds the
-// abandon threshold.
-bool Compare(const LapSolution& sol, size_t k, const Y& y, double abandon, ResimReport* r) {
-  bool within = true;
-  for (int i = 0; i < kNumStates; ++i) {
-    const double d = std::abs(y[i] - sol.x[k][i]) / r->scale[i];
-    r->state_difference[k][i] = d;
-    r->max_state_difference[i] = std::max(r->max_state_difference[i], d);
-    if (d > r->max_state_difference_all) {
-      r->max_state_difference_all = d;
-      r->worst_state = i;
-      r->worst_s = sol.s[k];
+// Each state's largest difference, the largest of all and where it is, from the nodes reached.
+void Summarise(const LapSolution& sol, ResimReport* r) {
+  for (size_t k = 0; k < sol.s.size(); ++k)
+    for (int i = 0; i < kNumStates; ++i) {
+      const double d = r->state_difference[k][i];  // NaN where not reached: no comparison holds
+      if (d > r->max_state_difference[i]) r->max_state_difference[i] = d;
+      if (d > r->max_state_difference_all) {
+        r->max_state_difference_all = d;
+        r->worst_state = i;
+        r->worst_s = sol.s[k];
+      }
     }
-    within = within && d <= abandon;
-  }
-  return within;
 }
 
 // The last node of the window that starts at node `first`: the last within `window` seconds of
@@ -172,12 +175,13 @@ double Window(const LapSolution& sol, size_t first, size_t last, const ResimOpti
   integrator->Restart();
   for (size_t k = first; k < last; ++k) {
     const bool defined = integrator->Interval(sol, k, &y);
-    if (!defined || !Compare(sol, k + 1, y, o.abandon_difference, r)) {
+    const int worst = defined ? Record(sol, k + 1, y, r) : 0;
+    const double largest = r->state_difference[k + 1][worst];
+    if (!defined || !(largest <= o.abandon_difference)) {
       std::ostringstream m;
       m << "re-simulation diverged: ";
       if (defined)
-        m << kStateNames[r->worst_state] << " off by " << 100.0 * r->max_state_difference_all
-          << " % of its scale";
+        m << kStateNames[worst] << " off by " << 100.0 * largest << " % of its scale";
       else
         m << "the model is undefined or the integration stalls";
       m << " at s = " << sol.s[k + 1] << " m, in the window from s = " << sol.s[first] << " m";
@@ -239,6 +243,7 @@ ResimReport Resimulate(const Vehicle& v, const RoadTrack& road, const LapSolutio
     r.lap_time += Window(sol, first, last, options, &integrator, &r);
     first = last;
   }
+  Summarise(sol, &r);
   r.lap_time_difference = r.lap_time - sol.t.back();
   r.lap_time_relative = std::abs(r.lap_time_difference) / sol.t.back();
   if (r.message.empty()) r.message = Verdict(r, options.tolerance);
