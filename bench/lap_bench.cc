@@ -110,6 +110,8 @@ constexpr IndirectKey kIndirectKeys[] = {
     {"path_tolerance", [](ttz::lap::IndirectOptions* o, double x) { o->path_tolerance = x; }},
     {"corrector_iterations",
      [](ttz::lap::IndirectOptions* o, double x) { o->corrector_iterations = static_cast<int>(x); }},
+    {"corrector_contraction_max",
+     [](ttz::lap::IndirectOptions* o, double x) { o->corrector_contraction_max = x; }},
     {"homotopy", [](ttz::lap::IndirectOptions* o, double x) { o->homotopy = x != 0.0; }},
     {"homotopy_handoff", [](ttz::lap::IndirectOptions* o, double x) { o->homotopy_handoff = x; }},
     {"homotopy_tolerance", [](ttz::lap::IndirectOptions* o, double x) { o->homotopy_tolerance = x; }},

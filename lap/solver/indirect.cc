@@ -84,7 +84,9 @@ bool TraceCurve(const IndirectOptions& options, Transcription* tr,
   settings.corrector_iterations = options.corrector_iterations;
   // Not on the barrier continuation: on the TT course's first 5 km (5 m) its stopped correctors
   // led to a turning point at eps 1.34e-4 that full correctors step over to converge at eps_end
-  // (SnaefellOracleTest.First5kmAgreement; docs/lap.md "Stalled correctors").
+  // (SnaefellOracleTest.First5kmAgreement; docs/lap.md "Stalled correctors"). Nor are correctors
+  // that do not contract, for the same reason: there they led to a turning point at eps 1.33e-4
+  // (docs/lap.md "Correctors that do not contract").
   settings.stop_stalled = false;
   const auto report = [&](const PathPoint& point) {
     ContinuationStep step;
@@ -133,6 +135,7 @@ bool FollowFromStart(const IndirectOptions& options, CurveSystem* sys, PathFamil
   settings.tolerance = options.homotopy_tolerance;
   settings.final_tolerance = 10.0 * options.residual_tolerance;
   settings.corrector_iterations = options.corrector_iterations;
+  settings.max_contraction = options.corrector_contraction_max;
   settings.max_iterations = options.max_iterations;
   const auto report = [&](const PathPoint& point) {
     *iterations += point.iterations;

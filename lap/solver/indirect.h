@@ -63,6 +63,11 @@ struct IndirectOptions {
   // retried) to 29 (7), 27.9 to 24.5 s; on the whole course it took 69 steps (10 retried), 337
   // iterations, 384 s against 70, 327, 369 s with 8 (docs/lap.md, session 33).
   int corrector_iterations = 8;
+  // A corrector of Newton's homotopy and of the node barriers' share path fails at once when a
+  // Newton step is longer than this times the one before (CorrectorNotContracting,
+  // solution_curve.h; not on the barrier continuation, where stopped correctors lead to turning
+  // points: docs/lap.md "Correctors that do not contract"); infinity: never.
+  double corrector_contraction_max = 0.5;
   // The first step of a start near the solution at eps_start (node barriers on: the node
   // barriers added to the midpoints' solution, the whole road from its stitched windows, an
   // --init lap) by Newton's homotopy H(v, t) = F(v) - (1 - t) F(v0) = 0, followed from the start

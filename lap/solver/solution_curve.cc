@@ -171,6 +171,11 @@ bool CorrectorDiverged(const std::vector<double>& max_residuals, double toleranc
          !(max_residuals.back() <= 1e6 * std::max(max_residuals.front(), tolerance));
 }
 
+bool CorrectorNotContracting(const std::vector<double>& step_lengths, double max_contraction) {
+  const size_t k = step_lengths.size();
+  return k >= 2 && step_lengths[k - 1] > max_contraction * step_lengths[k - 2];
+}
+
 namespace {
 
 // Newton corrector of a step of length ds from the predictor `yp` (tangent t): max |G| <= tol and on the
@@ -182,6 +187,7 @@ bool Correct(CurveSystem* sys, PathFamily* family, const Eigen::VectorXd& t,
   Eigen::VectorXd G, Gp;
   Eigen::SparseMatrix<double> J;
   std::vector<double> residuals;
+  std::vector<double> steps;  // |dz| of the Newton steps
   *z = yp;
   for (*its = 0; *its <= settings.corrector_iterations; ++*its) {
     sys->Set(z->head(n));
@@ -205,6 +211,8 @@ bool Correct(CurveSystem* sys, PathFamily* family, const Eigen::VectorXd& t,
     b.head(n) = -G;
     b[n] = -arc;
     if (!SolveBordered(J, CurveSystem::kJacobianForm, Gp, t, b, &dz)) return false;
+    steps.push_back(dz.norm());
+    if (CorrectorNotContracting(steps, settings.max_contraction)) return false;
     *z += dz;
     sys->transcription()->KeepControlsAsStarts();
   }

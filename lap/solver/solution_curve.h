@@ -138,6 +138,9 @@ struct PathSettings {
   double final_tolerance = 1e-8;      // max |F| at the end (Newton at Eps(p_end), <= 12 its)
   int corrector_iterations = 8;       // Newton iterations of a step's corrector before it is halved
   bool stop_stalled = true;           // a corrector that stalled (CorrectorStalled) fails at once
+  // A corrector fails at once when a Newton step |dz| (scaled unknowns and p) is longer than this
+  // times the step before (CorrectorNotContracting); infinity: never.
+  double max_contraction = std::numeric_limits<double>::infinity();
   int max_iterations = std::numeric_limits<int>::max();  // over all steps
 };
 
@@ -158,6 +161,16 @@ bool CorrectorStalled(const std::vector<double>& max_residuals);
 // correctors"). FollowPath stops such a corrector on every path.
 bool CorrectorDiverged(const std::vector<double>& max_residuals, double tolerance);
 
+// Whether a Newton corrector does not contract: its last step |dz| is longer than
+// max_contraction times the step before (Deuflhard's monotonicity test; the steps of a Newton
+// iteration that converges shrink, quadratically near the solution). On the whole TT course (20
+// m, at most 0.5 s) the converged correctors of the barrier continuation had shrunk each step 3 to
+// 100 times (|dz| 0.18, 0.0076, 0.0014, 5.3e-5), the failed ones had stopped shrinking after their
+// first step and spent their 8 iterations at 0.2-1.6 (0.85, 0.46, 0.67, 0.92, 1.0, 1.0, 1.4, 1.6)
+// (docs/lap.md "Correctors that do not contract"). FollowPath stops such a corrector with
+// PathSettings::max_contraction.
+bool CorrectorNotContracting(const std::vector<double>& step_lengths, double max_contraction);
+
 // One step of FollowPath: p where it converged (the predictor's p when it failed).
 struct PathPoint {
   double p = 0.0;
@@ -175,7 +188,8 @@ enum class PathEnd { kReached, kTurned, kFailed };
 // settings.p_end: predictor along the unit tangent of (v, p), Newton corrector on
 // [G; t^T (y - y_pred)] = 0 (the bordered system), the step grown after an easy corrector (<= 3
 // iterations) and shrunk after a hard one (>= 6), halved after a failed one (one that spent
-// corrector_iterations, diverged or, with stop_stalled, stalled; the unknowns and the
+// corrector_iterations, diverged, did not contract (max_contraction) or, with stop_stalled,
+// stalled; the unknowns and the
 // controls' Newton starts back at the last point); the last step lands on p_end and converges
 // there by Newton on F. Reports every step; stops at a turning point (p starts to go back:
 // kTurned, with the tangent there in `turn`), after 400 steps, when a step shrinks below 1e-6 in p

@@ -43,6 +43,20 @@ TEST(CorrectorDivergedTest, AboveAMillionTimesItsStart) {
   EXPECT_FALSE(CorrectorDiverged({}, 1e-7));
 }
 
+// Step lengths |dz| of the whole TT course's barrier continuation (solution_curve.h).
+TEST(CorrectorNotContractingTest, StepsThatStopShrinkingDoNotContract) {
+  const std::vector<double> failed{0.85, 0.46, 0.67, 0.92, 1.0, 1.0, 1.4, 1.6};
+  const std::vector<double> converged{0.18, 0.0076, 0.0014, 5.3e-5};
+  for (size_t k = 1; k <= converged.size(); ++k)
+    EXPECT_FALSE(CorrectorNotContracting(std::vector<double>(converged.begin(), converged.begin() + k), 0.7)) << k;
+  EXPECT_FALSE(CorrectorNotContracting({failed[0], failed[1]}, 0.7));  // 0.54: still shrinking
+  EXPECT_TRUE(CorrectorNotContracting({failed[0], failed[1], failed[2]}, 0.7));
+  EXPECT_TRUE(CorrectorNotContracting({1.4, 0.19, 0.24}, 1.0));  // grew
+  EXPECT_FALSE(CorrectorNotContracting({1.4, 0.19, 0.24}, std::numeric_limits<double>::infinity()));
+  EXPECT_FALSE(CorrectorNotContracting({0.0, 0.0}, std::numeric_limits<double>::infinity()));
+  EXPECT_FALSE(CorrectorNotContracting({5.0}, 0.1));  // one step: nothing to compare
+}
+
 TEST(CorrectorStalledTest, ANonFiniteResidualIsStalled) {
   EXPECT_TRUE(CorrectorStalled({1.0, 0.5, std::numeric_limits<double>::quiet_NaN()}));
 }
