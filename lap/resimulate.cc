@@ -135,8 +135,8 @@ class Integrator {
   double step_ = 0.0;  // the last accepted step's successor [m]; 0 at a window's start
 };
 
-// Records the scaled differences of the re-simulated x at node k; returns the state whose is
-// the largest.
+// Records the scaled differences of the re-simulated x at node k; returns the state with the
+// largest.
 int Record(const LapSolution& sol, size_t k, const Y& y, ResimReport* r) {
   StateVector<double>& d = r->state_difference[k];
   for (int i = 0; i < kNumStates; ++i) d[i] = std::abs(y[i] - sol.x[k][i]) / r->scale[i];

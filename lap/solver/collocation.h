@@ -78,10 +78,8 @@ bool CollocationStep(const ButcherTableau& tab, const Rhs& rhs, double s0, doubl
       for (int l = 0; l < S; ++l) r -= h * tab.A[j][l] * f[l];
       R.segment<N>(j * N) = r;
     }
-    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(M);
-    if (!(std::abs(lu.determinant()) > 0.0)) return false;
-    const Eigen::VectorXd d = lu.solve(-R);
-    if (!d.allFinite()) return false;
+    const Eigen::VectorXd d = M.partialPivLu().solve(-R);
+    if (!d.allFinite()) return false;  // a singular iteration matrix
     Y += d;
     double largest = 0.0;
     for (int j = 0; j < S; ++j)
