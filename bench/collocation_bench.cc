@@ -91,15 +91,6 @@ struct StepModel {
   }
 };
 
-ControlVector<double> NodeControlAt(const WarmStart& lap, double s) {
-  const auto it = std::upper_bound(lap.s.begin(), lap.s.end(), s);
-  const size_t k = std::clamp<size_t>(it - lap.s.begin(), 1, lap.s.size() - 1) - 1;
-  const double w = (s - lap.s[k]) / (lap.s[k + 1] - lap.s[k]);
-  ControlVector<double> u;
-  for (int i = 0; i < kNumControls; ++i) u[i] = (1.0 - w) * lap.u[k][i] + w * lap.u[k + 1][i];
-  return u;
-}
-
 void Run(const ButcherTableau& tab, const Vehicle& v, const RoadTrack& road, const WarmStart& lap,
          const Vec& scale, int every, double length) {
   Vec largest = Vec::Zero(), over = Vec::Zero();
@@ -109,7 +100,9 @@ void Run(const ButcherTableau& tab, const Vehicle& v, const RoadTrack& road, con
     Vec x0;
     for (int i = 0; i < kNumStates; ++i) x0[i] = lap.x[k][i];
     StepModel model{v, road, tab, lap.s[k], lap.s[k + every] - lap.s[k], {}};
-    for (double c : tab.c) model.stage_u.push_back(NodeControlAt(lap, model.s0 + c * model.h));
+    std::vector<double> stages;
+    for (double c : tab.c) stages.push_back(model.s0 + c * model.h);
+    model.stage_u = ResampleWarmStart(lap, v, stages).u;  // the node controls, linear in s
     const double dt = model.h / std::max(x0[kV], 1.0);
     const int steps = std::max(8, static_cast<int>(std::ceil(dt / kRk4StepSeconds)));
     Vec scheme, exact, exact2;
