@@ -34,13 +34,15 @@ def bike_yaml(gear=2.8, motors=2, parallel=4, series=24, cell_j=CELL_J, base_mas
 
 
 def write_point(path, lap_time, energy_used, top_speed=60.0, converged=1, message="",
-                accel=5.0, efficiency=0.7, schema="ttz.lap", without=(), timed=None, mesh=None, **bike):
+                accel=5.0, efficiency=0.7, schema="ttz.lap", without=(), timed=None, mesh=None, solver=None,
+                **bike):
     """A lap.h5 of one design point: t uniform to lap_time, V = 5 + accel t (capped at 70 m/s),
     battery power 50 kW then -5 kW, wheel power efficiency x 50 kW then -8 kW (so the positive
     parts' ratio is `efficiency`); the motor current at its limit over the first half of the
     nodes' time, the motor voltage (rising 40 -> 80 V) at its 80 V limit from t = 0.9 lap_time
     on, the pack's voltage limit over the first tenth of the nodes. Attributes in `without` are left out; `timed` = (iterations,
-    solve_seconds) writes those attributes, `mesh` = (ds, dt_max) mesh_ds and mesh_dt_max."""
+    solve_seconds) writes those attributes, `mesh` = (ds, dt_max) mesh_ds and mesh_dt_max, `solver`
+    the solver attribute."""
     pack_j = bike.get("series", 24) * bike.get("parallel", 4) * bike.get("cell_j", CELL_J)
     t = np.linspace(0.0, lap_time, NODES)
     half = np.arange(NODES) < NODES // 2
@@ -63,6 +65,8 @@ def write_point(path, lap_time, energy_used, top_speed=60.0, converged=1, messag
             attrs.update(iterations=np.int32(timed[0]), solve_seconds=timed[1])
         if mesh:
             attrs.update(mesh_ds=mesh[0], mesh_dt_max=mesh[1])
+        if solver:
+            attrs.update(solver=solver)
         h5.attrs.update({k: v for k, v in attrs.items() if k not in without})
     return path
 
@@ -221,17 +225,22 @@ class StudyReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
         self.assertEqual(result.stdout.splitlines()[2],
                          "solve cost: 3 laps, 1810 iterations, 1.30 h (2 attempts set aside included)")
 
-    def test_a_point_on_another_mesh_is_named(self):
+    def test_a_point_solved_otherwise_is_named(self):
+        # the 37 MJ point on a finer mesh, the 40 MJ one by Ipopt (the pipelines' retry)
         paths = []
-        for pack_mj, dt_max in ((31.0, 0.5), (37.0, 0.25), (43.0, 0.5)):
+        for pack_mj, dt_max, solver in ((31.0, 0.5, "indirect"), (37.0, 0.25, "indirect"),
+                                        (40.0, 0.5, "ipopt"), (43.0, 0.5, "indirect")):
             paths.append(write_point(self.path(f"b{pack_mj:g}.h5"), 1780.0 + 0.5 * (pack_mj - 37.0) ** 2,
-                                     min(pack_mj, 37.0) * 1e6, cell_j=pack_mj * 1e6 / 96, mesh=(20.0, dt_max)))
+                                     min(pack_mj, 37.0) * 1e6, cell_j=pack_mj * 1e6 / 96,
+                                     mesh=(20.0, dt_max), solver=solver))
         self.assert_ok(fx.run("study_report.py", "--battery", *paths, "-o", self.out))
         report = self.read("report.md")
-        self.assertIn("**1 of 3 points on another mesh** than the others' (--ds 20 --dt-max 0.5)", report)
-        self.assertIn("- `" + paths[1] + "`: --ds 20 --dt-max 0.25", report)
-        self.assert_ok(fx.run("study_report.py", "--battery", paths[0], paths[2], "-o", self.out))
-        self.assertNotIn("another mesh", self.read("report.md"))
+        self.assertIn("**2 of 4 points solved otherwise** than the others "
+                      "(--solver indirect --ds 20 --dt-max 0.5)", report)
+        self.assertIn("- `" + paths[1] + "`: --solver indirect --ds 20 --dt-max 0.25", report)
+        self.assertIn("- `" + paths[2] + "`: --solver ipopt --ds 20 --dt-max 0.5", report)
+        self.assert_ok(fx.run("study_report.py", "--battery", paths[0], paths[3], "-o", self.out))
+        self.assertNotIn("solved otherwise", self.read("report.md"))
 
     def test_incomplete_grid_with_unconverged_point(self):
         paths = self.grid_study(skip={(3.6, 47.0)})
