@@ -460,8 +460,8 @@ def table(header, rows):
 
 
 def status_lines(points):
-    """The points that did not converge (or a line saying all did), then those solved on another
-    mesh than the most of them."""
+    """The points that did not converge (or a line saying all did), then those solved with
+    another solver or mesh than the most of them."""
     return not_converged_lines(points) + other_method_lines(points)
 
 
@@ -478,7 +478,7 @@ def other_method_lines(points):
     methods = [p.method for p in points if p.method is not None]
     if len(set(methods)) <= 1:
         return []
-    common = max(set(methods), key=methods.count)
+    common = max(methods, key=methods.count)  # on a tie the first point's
     others = [p for p in points if p.method is not None and p.method != common]
     lines = [f"**{len(others)} of {len(points)} points solved otherwise** than the others "
              f"({method_text(common)}); another mesh has its own error, and the indirect "

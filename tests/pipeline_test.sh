@@ -139,9 +139,9 @@ init=$(/usr/bin/python3 -c 'import sys, h5py; v = h5py.File(sys.argv[1]).attrs["
 [ "$init" = "$d/studies/grid/4.0_51/lap.h5" ] || fail "grid 4.0_60 started from '$init', not from 4.0_51"
 # An indirect solve that does not converge (here in one iteration: too few) is set aside and solved
 # again by INDIRECT_RETRY_FLAGS (Ipopt) on the same mesh, without the indirect solver's
-# --max-iterations: that converges, and the lap is Ipopt's.
+# --max-iterations (here in its FLAG=VALUE form): that converges, and the lap is Ipopt's.
 p=$d/studies/gear/3.3
-run_make "$p/lap.h5" LAP_FLAGS="--ds 20 --dt-max 0.5 --max-iterations 1" 2> "$out/indirect.log" > /dev/null ||
+run_make "$p/lap.h5" LAP_FLAGS="--ds 20 --dt-max 0.5 --max-iterations=1" 2> "$out/indirect.log" > /dev/null ||
   fail "gear 3.3's retry by Ipopt: $(cat "$out/indirect.log")"
 grep -q "$p: not converged (exit 3); solving again with --solver ipopt" "$out/indirect.log" ||
   fail "gear 3.3 was not retried by Ipopt: $(cat "$out/indirect.log")"

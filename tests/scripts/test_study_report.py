@@ -241,6 +241,11 @@ class StudyReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
         self.assertIn("- `" + paths[2] + "`: --solver ipopt --ds 20 --dt-max 0.5", report)
         self.assert_ok(fx.run("study_report.py", "--battery", paths[0], paths[3], "-o", self.out))
         self.assertNotIn("solved otherwise", self.read("report.md"))
+        # on a tie the first point's method is the others' (whatever the hash seed)
+        for seed in ("1", "2", "3"):
+            self.assert_ok(fx.run("study_report.py", "--battery", paths[2], paths[0], "-o", self.out,
+                                  env={"PYTHONHASHSEED": seed}))
+            self.assertIn("- `" + paths[0] + "`: --solver indirect", self.read("report.md"))
 
     def test_incomplete_grid_with_unconverged_point(self):
         paths = self.grid_study(skip={(3.6, 47.0)})

@@ -78,9 +78,10 @@ def write_road(path, length=LAP_LENGTH_M):
     return path
 
 
-def run(script, *args):
-    """Runs scripts/<script> with args; the CompletedProcess (text stdout and stderr)."""
-    env = dict(os.environ, MPLBACKEND="Agg")
+def run(script, *args, env=None):
+    """Runs scripts/<script> with args (and `env` added to the environment); the CompletedProcess
+    (text stdout and stderr)."""
+    env = dict(os.environ, MPLBACKEND="Agg", **(env or {}))
     return subprocess.run([PYTHON, os.path.join(SCRIPTS, script), *map(str, args)],
                           capture_output=True, text=True, env=env, timeout=120)
 
