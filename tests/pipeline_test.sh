@@ -138,12 +138,12 @@ run_make grid GRID_GEARS="4.0" GRID_MJ="60 51" WARM_START=yes LAP_FLAGS="$ipopt"
 init=$(/usr/bin/python3 -c 'import sys, h5py; v = h5py.File(sys.argv[1]).attrs["init_file"]; print(v.decode() if isinstance(v, bytes) else v)' "$d/studies/grid/4.0_60/lap.h5")
 [ "$init" = "$d/studies/grid/4.0_51/lap.h5" ] || fail "grid 4.0_60 started from '$init', not from 4.0_51"
 # An indirect solve that does not converge (here in one iteration: too few) is set aside and solved
-# again by INDIRECT_RETRY_FLAGS (Ipopt) on the same mesh, without the indirect solver's
+# again by INDIRECT_RETRY_FLAGS (Ipopt with kkt-error) on the same mesh, without the indirect solver's
 # --max-iterations (here in its FLAG=VALUE form): that converges, and the lap is Ipopt's.
 p=$d/studies/gear/3.3
 run_make "$p/lap.h5" LAP_FLAGS="--ds 20 --dt-max 0.5 --max-iterations=1" 2> "$out/indirect.log" > /dev/null ||
   fail "gear 3.3's retry by Ipopt: $(cat "$out/indirect.log")"
-grep -q "$p: not converged (exit 3); solving again with --solver ipopt" "$out/indirect.log" ||
+grep -q "$p: not converged (exit 3); solving again with --solver ipopt --mu-globalization kkt-error" "$out/indirect.log" ||
   fail "gear 3.3 was not retried by Ipopt: $(cat "$out/indirect.log")"
 /usr/bin/python3 - "$p" <<'PY' || fail "gear 3.3's attempts: $(ls "$p")"
 import sys, h5py
@@ -153,6 +153,6 @@ with h5py.File(f"{point}/lap-first-attempt.h5") as first, h5py.File(f"{point}/la
     assert first.attrs["converged"] == 0 and text(first.attrs["solver"]) == "indirect", dict(first.attrs)
     assert lap.attrs["converged"] == 1 and text(lap.attrs["solver"]) == "ipopt", dict(lap.attrs)
     assert lap.attrs["nodes"] == first.attrs["nodes"] and lap.attrs["mesh_dt_max"] == 0.5
-    assert lap.attrs["max_iterations"] == 3000, dict(lap.attrs)
+    assert lap.attrs["max_iterations"] == 3000 and text(lap.attrs["mu_globalization"]) == "kkt-error", dict(lap.attrs)
 PY
 echo "pipeline on 3 km: ok"
