@@ -2,7 +2,7 @@
 // replaced (Eigen's SparseLU in J's natural order): seconds of one factorisation and of one solve,
 // each the least of three, on a random matrix of J's staircase form (CurveSystem::kJacobianForm:
 // blocks of 26 rows, the first column group of 13) with N row blocks, as many as the TT course's
-// intervals on the 20 m mesh with at most 0.5 s (6,202: docs/lap.md "The staircase LU"). Random
+// intervals on the 20 m mesh with at most 0.5 s (6,202: docs/lap_log.md "The staircase LU"). Random
 // entries in [-1, 1], 4 added on the diagonal; the two solutions' largest difference is printed
 // as a check.
 //

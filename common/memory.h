@@ -2,7 +2,7 @@
 // on a whole course builds and frees Jacobians and sparse factors of tens to hundreds of
 // megabytes. glibc serves blocks above 32 MB (its largest mmap threshold) by fresh mappings,
 // whose pages the kernel faults in and zeroes on first touch and unmaps on free: on the TT course
-// that was 61 s of system time in a 475 s solve (docs/lap.md "Freed memory kept for reuse": 26 s
+// that was 61 s of system time in a 475 s solve (docs/lap_log.md "Freed memory kept for reuse": 26 s
 // and 443.5 s with this).
 #pragma once
 

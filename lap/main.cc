@@ -73,7 +73,7 @@ void DefineOptions(CLI::App& app, Arguments& a) {
   app.add_option("--guess", a.guess,
                  "the initial guess without --init: the quasi-steady lap on the racing line (the least-curvature "
                  "path, lap/racing_line.h) or on the centre line; default racing-line for the indirect solver, "
-                 "centre-line for ipopt (docs/lap.md \"A racing line for the guess\")")
+                 "centre-line for ipopt (docs/lap_log.md \"A racing line for the guess\")")
       ->check(CLI::IsMember({"racing-line", "centre-line"}));
   app.add_option("--max-iterations", a.max_iterations,
                  "iteration limit: Ceres iterations of the first continuation step (indirect, default " +
@@ -178,7 +178,7 @@ struct Start {
 // lap/racing_line.h) or the centre line's, `qss`. Without --guess, the racing line for the
 // indirect solver (from the centre line its first step stalls on the TT course's fast bends)
 // and the centre line for Ipopt (the racing line took it fewer iterations on the course's first
-// 5 km and more on the whole course: docs/lap.md "A racing line for the guess").
+// 5 km and more on the whole course: docs/lap_log.md "A racing line for the guess").
 Start QssStart(const Arguments& a, const Vehicle& v, const RoadTrack& track, const std::vector<double>& mesh,
                const QssLap& qss) {
   const std::string kind = !a.guess.empty() ? a.guess : a.solver == "ipopt" ? "centre-line" : "racing-line";

@@ -3,7 +3,7 @@
 // more speed through the same bend). The QSS lap on it (lap/qss.h) starts the solvers closer to
 // the optimum where the optimum uses the road's width: on the TT course's fastest bends (20-22 km)
 // the QSS on the centre line is 34 % slower than the optimal lap, and the indirect solver's first
-// step from it stalls (docs/lap.md, "A racing line for the guess").
+// step from it stalls (docs/lap_log.md, "A racing line for the guess").
 //
 // On the mesh s_0 < ... < s_N with the lateral offset n_k (the model's n, right of the centre
 // line positive, lap/model/state.h) as unknowns, the least-squares problem

@@ -105,7 +105,7 @@ ceres::Solver::Summary SolvePass(const RoadInput& input, const std::vector<Stati
   AddObservations(input, stations, options, ribbon, &problem);
   ceres::Solver::Options solver;
   solver.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;  // CHOLMOD: faster here than Eigen's
-                                                               // (docs/lap.md "Eigen's sparse Cholesky")
+                                                               // (docs/lap_log.md "Eigen's sparse Cholesky")
   solver.max_num_iterations = options.max_iterations;
   solver.num_threads = options.num_threads;
   solver.function_tolerance = 1e-7;  // relative cost change; smaller only moved the TT fit by millimetres

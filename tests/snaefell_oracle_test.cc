@@ -74,7 +74,7 @@ TEST(SnaefellOracleTest, First5kmAgreement) {
 }
 
 // The calibrated bike (docs/pipelines.md: 190.77 A per motor), whose laps are current-limited,
-// with a price on rolling the bike (docs/lap.md, "A price on rolling the bike"). Without the price
+// with a price on rolling the bike (docs/lap_log.md, "A price on rolling the bike"). Without the price
 // its optimum weaves on the straights and the indirect solver's continuation stops at a turning
 // point (eps 1.2e-3 on the course's first 5 km); with c_r = 0.01 s^2/rad^2 the weave is gone and
 // the two solvers agree. Measured in session 25 (this test, at nice 10 with a whole-course solve on
@@ -88,7 +88,7 @@ TEST(SnaefellOracleTest, CalibratedBikeWithAPriceOnRollingAgrees) {
                                        "limits.roll_rate_weight_s2_per_rad2=0.01"}});
 }
 
-// Without the price on rolling that optimum weaves on the straight at 2.7-3.1 km (docs/lap.md) and
+// Without the price on rolling that optimum weaves on the straight at 2.7-3.1 km (docs/lap_log.md) and
 // the indirect solver's continuation stops at a turning point of its solution curve: the answer
 // says it did not converge and where the solution turns (Verdict, indirect.cc). Measured in
 // session 31 with `lap` (its guess, the QSS lap on the racing line, as here; `lap road.h5

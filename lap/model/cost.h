@@ -2,7 +2,7 @@
 // dt/ds = 1 / sdot, plus the rider's effort c_y (dOmega_z/dt)^2 + c_t (dtau_w/dt)^2 + c_r omega_phi^2
 // per unit time. The first two keep the yaw rate and the wheel torque, states of this model
 // (lap/model/state.h), from chattering; the third, off in the reference bike (c_r = 0), prices the
-// rider's rolling of the bike (docs/lap.md, "A price on rolling the bike"). The lap time reported
+// rider's rolling of the bike (docs/lap_log.md, "A price on rolling the bike"). The lap time reported
 // is the time alone.
 #pragma once
 

@@ -118,7 +118,7 @@ inline HyperDual<N> operator-(const HyperDual<N>& x) {
 }
 // The operators build their result in one pass over their operands: taking an operand by value and
 // returning `x += y` copied its 136 doubles (N = 15) twice, and those copies were 10 % of the
-// indirect solver's time (perf, docs/lap.md "One pass per operator").
+// indirect solver's time (perf, docs/lap_log.md "One pass per operator").
 template <int N>
 inline HyperDual<N> operator+(const HyperDual<N>& x, const HyperDual<N>& y) {
   HyperDual<N> r{typename HyperDual<N>::Uninitialised{}};

@@ -53,7 +53,7 @@ ceres::Solver::Options CeresOptions(const IndirectOptions& options) {
   so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   // Eigen's simplicial Cholesky rather than CHOLMOD's supernodal one: Debian's CHOLMOD hands each
   // factorisation to OpenMP threads, whose wake-ups cost more than they save on these block-banded
-  // systems (docs/lap.md "Eigen's sparse Cholesky": first 10 km 55.1 -> 42.8 s).
+  // systems (docs/lap_log.md "Eigen's sparse Cholesky": first 10 km 55.1 -> 42.8 s).
   so.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
   so.minimizer_type = ceres::TRUST_REGION;
   so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
@@ -84,9 +84,9 @@ bool TraceCurve(const IndirectOptions& options, Transcription* tr,
   settings.corrector_iterations = options.corrector_iterations;
   // Not on the barrier continuation: on the TT course's first 5 km (5 m) its stopped correctors
   // led to a turning point at eps 1.34e-4 that full correctors step over to converge at eps_end
-  // (SnaefellOracleTest.First5kmAgreement; docs/lap.md "Stalled correctors"). Nor are correctors
+  // (SnaefellOracleTest.First5kmAgreement; docs/lap_log.md "Stalled correctors"). Nor are correctors
   // that do not contract, for the same reason: there they led to a turning point at eps 1.33e-4
-  // (docs/lap.md "Correctors that do not contract").
+  // (docs/lap_log.md "Correctors that do not contract").
   settings.stop_stalled = false;
   const auto report = [&](const PathPoint& point) {
     ContinuationStep step;
@@ -466,7 +466,7 @@ double WindowsEpsEnd(const IndirectOptions& options) {
 // Window [a, b] by its tries, each from eps_start (a ten times heavier barrier in the last) down to
 // the window's eps_end: from the stitched guess, from its own guess
 // (IndirectOptions::window_guess, when given), from the stitched guess under the heavier barrier
-// (docs/lap.md "A price on rolling the bike"); true when one converged, with its answer in `sol`.
+// (docs/lap_log.md "A price on rolling the bike"); true when one converged, with its answer in `sol`.
 bool SolveWindow(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh, int a,
                  int b, const IndirectOptions& window,
                  const std::vector<StateVector<double>>& x_guess,
@@ -519,7 +519,7 @@ bool SolveFirstStepInWindows(const Vehicle& v, const RoadTrack& road,
   // barriers there may leave a constraint over by more than the answer's tolerance, which the
   // whole road's continuation down to eps_end takes back. So a window needs its residuals alone
   // (on the TT course with data/bx15.yaml's 600 A, the window from 20 km converged on every try
-  // and was rejected for 3.7e-4 over: docs/lap.md "A window's constraints").
+  // and was rejected for 3.7e-4 over: docs/lap_log.md "A window's constraints").
   window.constraint_tolerance = HUGE_VAL;
   std::vector<WindowJunction> junctions;
   double length = options.window_m;

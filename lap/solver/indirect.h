@@ -3,7 +3,7 @@
 // a square residual system in the states and costates of every node (controls eliminated per node,
 // lap/solver/node.h), solved by Levenberg-Marquardt (Newton with a large trust region) with sparse
 // Cholesky, along a continuation of the barrier weight eps; the lap time is extrapolated to eps = 0.
-// Design and evidence: ../shared/notes/lap-solver-prototype.md, docs/lap.md.
+// Design and evidence: ../shared/notes/lap-solver-prototype.md, docs/lap.md, docs/lap_log.md.
 #pragma once
 
 #include <vector>
@@ -32,7 +32,7 @@ struct IndirectOptions {
   // hamiltonian.h) shrinks with eps, though not at once (the multiplier moves too). On the TT
   // course the charge at the finish of a 25 MJ pack overshot by 1.24e-4 of the pack at eps 1e-4
   // and by 6.6e-5 at 5e-5; a decade down at once, the residuals' floor at 1e-5 (~4e-8) missed
-  // the final 1e-8 (docs/lap.md "Below eps_end"). eps_floor = eps_end: never.
+  // the final 1e-8 (docs/lap_log.md "Below eps_end"). eps_floor = eps_end: never.
   double eps_floor = 1e-6;
   double eps_factor = 0.7;       // eps_{k+1} = factor eps_k; halved in log on a failed step
   int max_retries = 4;           // failed continuation steps retried with a smaller factor
@@ -42,7 +42,7 @@ struct IndirectOptions {
   double residual_tolerance = 1e-9;  // Ceres stops at ||residual|| <= this; a step must reach max 10x this
   // The same for the steps between the first and the last: on a 5 km piece of the TT course
   // (10 m mesh) the residuals' floor is ~1e-8 and with residual_tolerance every step there ran
-  // into its iteration limit (docs/lap.md).
+  // into its iteration limit (docs/lap_log.md).
   double path_tolerance = 1e-7;
   double constraint_tolerance = 1e-4;  // largest allowed g_j > 0 (relative) in the answer
   // Barriers (and the check) of every constraint at the nodes 1..N as well as at the midpoints
@@ -55,18 +55,18 @@ struct IndirectOptions {
   // shrinking eps with Levenberg-Marquardt. On the first 5 km of the TT course (10 m mesh,
   // eps_start 0.1) the curve is nearly vertical at eps ~3.4e-3 (d log eps / ds ~ 2e-3, the roll
   // weave at s ~2.9 km grows): Levenberg-Marquardt on the normal equations (condition squared,
-  // sigma_min(J) ~ 1e-6) stalled there; the bordered Newton passes it (docs/lap.md).
+  // sigma_min(J) ~ 1e-6) stalled there; the bordered Newton passes it (docs/lap_log.md).
   bool arclength = true;
   double arclength_dlogeps = 0.36;  // first step's change of log eps (~ log of eps_factor)
   // Newton iterations of an arclength step's corrector before the step is halved. On the first
   // 10 km of the TT course (20 m, at most 0.5 s) 12 instead of 8 took the steps from 39 (10
   // retried) to 29 (7), 27.9 to 24.5 s; on the whole course it took 69 steps (10 retried), 337
-  // iterations, 384 s against 70, 327, 369 s with 8 (docs/lap.md, session 33).
+  // iterations, 384 s against 70, 327, 369 s with 8 (docs/lap_log.md, session 33).
   int corrector_iterations = 8;
   // A corrector of Newton's homotopy and of the node barriers' share path fails at once when a
   // Newton step is longer than this times the one before (CorrectorNotContracting,
   // solution_curve.h; not on the barrier continuation, where stopped correctors lead to turning
-  // points: docs/lap.md "Correctors that do not contract"); infinity: never.
+  // points: docs/lap_log.md "Correctors that do not contract"); infinity: never.
   double corrector_contraction_max = 0.5;
   // The first step of a start near the solution at eps_start (node barriers on: the node
   // barriers added to the midpoints' solution, the whole road from its stitched windows, an
@@ -75,7 +75,7 @@ struct IndirectOptions {
   // instead of Levenberg-Marquardt; at a turning point in t, a failed step or after
   // max_iterations Newton iterations Levenberg-Marquardt takes over from v0. On the TT course
   // (20 m) the whole road's first step from its stitched windows took 40 Newton iterations, 43 s,
-  // against Levenberg-Marquardt's 248, 254 s (docs/lap.md, session 34). From the QSS guess
+  // against Levenberg-Marquardt's 248, 254 s (docs/lap_log.md, session 34). From the QSS guess
   // itself it turned or crept (10 km of the course: 17,702 iterations in all against 1,610);
   // from a guess it starts where LM got near (homotopy_handoff).
   bool homotopy = true;
@@ -83,7 +83,7 @@ struct IndirectOptions {
   // path: only the end needs to solve F, the points only keep Newton's iterates near the path. On
   // the TT course (20 m, at most 0.5 s, 3 km windows) 1e-3 instead of 1e-5 took the first 10 km
   // from 682 iterations to 569 (1e-4: 656; 1e-2: 1,103, its steps failing) and the whole course
-  // from 4,957 to 4,328, 208.0 s against 234.2 s, the same lap (docs/lap.md "Looser points on
+  // from 4,957 to 4,328, 208.0 s against 234.2 s, the same lap (docs/lap_log.md "Looser points on
   // the homotopies").
   double homotopy_tolerance = 1e-3;
   // From a guess Levenberg-Marquardt's first solve hands over to Newton's homotopy (above, with
@@ -93,7 +93,7 @@ struct IndirectOptions {
   // slow tail (trust-region ratio ~0.75, the radius growing ~1.2x an iteration), a count that is
   // chaotic in its start. Off on whole roads: on the 5 km roads at 5 m the homotopy from there
   // crept (steps of ~0.01 in t) or turned, the first 5 km of the TT course took 964 iterations
-  // against 668 and its calibrated bike did not converge (docs/lap.md "Levenberg-Marquardt
+  // against 668 and its calibrated bike did not converge (docs/lap_log.md "Levenberg-Marquardt
   // handing over to Newton's homotopy"). The windows use window_homotopy_handoff.
   double homotopy_handoff = 0.0;
   // From a guess without costates the first solve is of the midpoints' barriers alone
@@ -103,23 +103,23 @@ struct IndirectOptions {
   // with them (which then starts at its solution). Where it fails, that first step starts from
   // the midpoints' solution as without it. On the TT course's first 3 km (20 m, at most 0.5 s)
   // it took 58 Newton iterations, 3.9 s, where Newton's homotopy turned after 6 and
-  // Levenberg-Marquardt took 172 iterations, 9.1 s (docs/lap.md "The node barriers switched on
+  // Levenberg-Marquardt took 172 iterations, 9.1 s (docs/lap_log.md "The node barriers switched on
   // by their share").
   bool node_share_path = true;
   // The first step from a guess without costates, on a road longer than `window_m` [m] (0: never
   // windowed): solved window by window at eps_start (at retry_eps_start instead when that is set
-  // and smaller: the weight at which the windows converged on the TT course, docs/lap.md), each
+  // and smaller: the weight at which the windows converged on the TT course, docs/lap_log.md), each
   // window's start state fixed by the previous window's solution and its end free (a window that
   // fails is solved again from `window_guess`, then at ten times the weight and followed down to
   // it), keeping each window but its last `window_overlap_m` (where its free end pulls the
   // costates to zero); the continuation then starts on the whole road from the stitched states
   // and costates (at a junction the previous window's costates, lambda_e and lambda_T carried
   // across it: window_stitch.h). From the QSS guess the first step's difficulty grows with the
-  // road (docs/lap.md "Status"); the prototype's 60 km first step was solved this way
+  // road (docs/lap_log.md "The first step in windows"); the prototype's 60 km first step was solved this way
   // (../shared/notes/lap-solver-prototype.md). The windows' steps come first in
   // SolveSummary::steps (their lap times those of their windows alone) and their iterations
   // count in SolveSummary::iterations. A window counts as solved on its residuals alone: its
-  // constraints are the whole road's to meet (docs/lap.md "A window's constraints").
+  // constraints are the whole road's to meet (docs/lap_log.md "A window's constraints").
   // 0 <= window_overlap_m < window_m, else SolveIndirect throws std::invalid_argument.
   double window_m = 0.0;
   double window_overlap_m = 1000.0;
@@ -133,7 +133,7 @@ struct IndirectOptions {
   // the whole road's continuation starts there by Newton's homotopy from their stitched answer.
   // The steps that cost the most on the whole road are those of the first decade in eps (TT
   // course, 20 m: 41 of 73 arclength steps, 213 of 360 s), and a window takes them on its own
-  // 3 km: the first 10 km 92.1 -> 53.8 s, the whole course 705.6 -> 634.0 s (docs/lap.md
+  // 3 km: the first 10 km 92.1 -> 53.8 s, the whole course 705.6 -> 634.0 s (docs/lap_log.md
   // "Windows down to eps 1e-2"). Below 1e-2 the whole road's homotopy from the stitched windows
   // did not converge (1e-4: a turning point in t, then Levenberg-Marquardt failed at a junction).
   double window_eps_end = 1e-2;
@@ -141,14 +141,14 @@ struct IndirectOptions {
   // length (the same overlap), as long as that length is at least window_min_m [m] and longer
   // than the overlap; the next window has the full length again. On the TT course (3 km windows
   // at 20 m) the window at 40.0-43.0 km converged in 544 of 600 iterations in one run and failed
-  // every try in the next, after a change that moved only rounding errors (docs/lap.md).
+  // every try in the next, after a change that moved only rounding errors (docs/lap_log.md).
   double window_min_m = 1000.0;
   // A window's second guess, from its start state on its mesh (states and controls at its nodes,
   // x[0] the start state), tried when the window fails from the stitched guess (the previous
   // window's solution over the overlap, the road's guess beyond) and before the heavier weight;
   // empty: none. lap gives the QSS lap on the window's own racing line from the start state
   // (QssWindowGuess, lap/qss.h): on the TT course the window at 20-22.5 km failed from the
-  // stitched guess and converges from that one (docs/lap.md "A guess for every window").
+  // stitched guess and converges from that one (docs/lap_log.md "A guess for every window").
   WindowGuess window_guess;
   // A price on the charge left at the road's end [s/J]: the terminal cost -price e(s_end) added
   // to the lap time, so that the solve values a joule left in the pack at `price` seconds (0: the
@@ -158,7 +158,7 @@ struct IndirectOptions {
   // spends the pack as if the rest of the lap needed no charge: on the TT course with
   // data/bx15.yaml's bike, whose lap is limited by its pack, the windows from 44.5 km on failed in
   // the charge's equations, and with 7 s/MJ at their ends every window converged (the whole
-  // road's own lambda_e came to ~8.6 s/MJ; docs/lap.md "The charge's price at the windows'
+  // road's own lambda_e came to ~8.6 s/MJ; docs/lap_log.md "The charge's price at the windows'
   // ends"). lap gives the QSS lap's time per joule of the pack (QssChargePrice, lap/qss.h).
   double window_charge_price_s_per_j = 0.0;
   // Whether a solve from a guess without costates on a road of `length` metres takes its first

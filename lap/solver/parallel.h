@@ -11,7 +11,7 @@ namespace ttz::lap {
 // Runs work(p) for every part p in [0, parts): part 0 on the calling thread, the others on worker
 // threads that stay alive between calls (a thread per call cost a fresh stack each time, whose
 // pages glibc hands back when the thread ends and the kernel faults in again: ~1.4 million page
-// faults on the whole TT course, docs/lap.md "Worker threads kept"). Returns when every part is
+// faults on the whole TT course, docs/lap_log.md "Worker threads kept"). Returns when every part is
 // done; calls from several threads at once take turns (so a part must not call RunParts).
 void RunParts(int parts, const std::function<void(int)>& work);
 

@@ -35,7 +35,7 @@ class CurveSystem {
   // Ceres' Problem::Evaluate of the transcription's problem (BuildProblem), assembled here: the
   // interval blocks on the transcription's threads, straight into J's fixed pattern, without
   // Ceres' CRS copy of J and its conversion to Eigen (first 10 km of the TT course: peak memory
-  // 166 MB against 377 MB, the same time; docs/lap.md "The square system assembled in place").
+  // 166 MB against 377 MB, the same time; docs/lap_log.md "The square system assembled in place").
   bool Evaluate(double eps, Eigen::VectorXd* F, Eigen::SparseMatrix<double>* J,
                 Eigen::VectorXd* Fp);
   // Where a direction `d` of the unknowns (a tangent at a turning point: the direction in which
@@ -148,7 +148,7 @@ struct PathSettings {
 // than two iterates before, a floor or a cycle (at a kink of G). On the TT course's first 10 km
 // (20 m, at most 0.5 s, 3 km windows) the failed correctors' iterates had sat at such floors
 // (6.4e-2, 6.5e-2, 6.2e-2, ...) or cycled (2.1e-2, 3.2e-2, 2.1e-2, ...) for up to 8 iterations,
-// and no corrector that converged had done this (docs/lap.md "Stalled correctors"). FollowPath
+// and no corrector that converged had done this (docs/lap_log.md "Stalled correctors"). FollowPath
 // stops such a corrector with PathSettings::stop_stalled.
 bool CorrectorStalled(const std::vector<double>& max_residuals);
 
@@ -157,7 +157,7 @@ bool CorrectorStalled(const std::vector<double>& max_residuals);
 // failed correctors below eps 2e-3 ran to max |G| of 1e9-1e16 before failing, and at such an
 // iterate the bordered solve, its block elimination missing its accuracy, fell back to UMFPACK on
 // the bordered matrix (15-23 s, 2.8 GB). With the rule the whole course's 1,219 steps converged
-// or failed as without it, 12 failed ones sooner (docs/lap.md "Two chains and diverged
+// or failed as without it, 12 failed ones sooner (docs/lap_log.md "Two chains and diverged
 // correctors"). FollowPath stops such a corrector on every path.
 bool CorrectorDiverged(const std::vector<double>& max_residuals, double tolerance);
 
@@ -167,7 +167,7 @@ bool CorrectorDiverged(const std::vector<double>& max_residuals, double toleranc
 // m, at most 0.5 s) the converged correctors of the barrier continuation had shrunk each step 3 to
 // 100 times (|dz| 0.18, 0.0076, 0.0014, 5.3e-5), the failed ones had stopped shrinking after their
 // first step and spent their 8 iterations at 0.2-1.6 (0.85, 0.46, 0.67, 0.92, 1.0, 1.0, 1.4, 1.6)
-// (docs/lap.md "Correctors that do not contract"). FollowPath stops such a corrector with
+// (docs/lap_log.md "Correctors that do not contract"). FollowPath stops such a corrector with
 // PathSettings::max_contraction.
 bool CorrectorNotContracting(const std::vector<double>& step_lengths, double max_contraction);
 

@@ -17,7 +17,7 @@
 namespace ttz::lap {
 namespace {
 
-// Correctors' max |G| sequences from the TT course's first 10 km (docs/lap.md "Stalled
+// Correctors' max |G| sequences from the TT course's first 10 km (docs/lap_log.md "Stalled
 // correctors").
 TEST(CorrectorStalledTest, AFloorOrACycleIsStalled) {
   EXPECT_TRUE(CorrectorStalled({1.9e-1, 6.5e-2, 6.4e-2, 6.5e-2}));  // a floor

@@ -25,7 +25,7 @@ bool SolveSquare(const Eigen::SparseMatrix<double>& J, Staircase form, const Eig
 // 1e-9 of max(1, |b|) (max norms), x is refined by the same elimination of the miss (at most
 // twice), and if it still misses, the LU of the bordered matrix itself solves it, whose dense last
 // row and column fill the factors (on the whole TT course one such solve took ~15 s and 2.8 GB:
-// docs/lap.md "The node evaluations built for this processor"). False when neither gives a finite
+// docs/lap_log.md "The node evaluations built for this processor"). False when neither gives a finite
 // x.
 bool SolveBordered(const Eigen::SparseMatrix<double>& J, Staircase form, const Eigen::VectorXd& c,
                    const Eigen::VectorXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x);

@@ -10,7 +10,7 @@
 // R - g rows that touch group k + 1 alone. A step eliminates group k's columns in a dense block of
 // 2R - g rows and the two groups' columns: about 54,000 flops for J's R = 26, g = 13 (39 x 52),
 // where a band LU with J's bandwidths (38 below and above) would do about 150,000 per 26 columns
-// and a general sparse LU adds its symbolic work (docs/lap.md "The staircase LU"). The pivots are
+// and a general sparse LU adds its symbolic work (docs/lap_log.md "The staircase LU"). The pivots are
 // those of partial pivoting on the whole matrix in its own order, so the factors are as stable as
 // that.
 #pragma once

@@ -23,7 +23,7 @@ struct WindowJunction {
 // adds each junction's jump in lambda_e and lambda_T to its node and every node upstream of it,
 // which makes them continuous and priced over the whole road; the other costates are left as they
 // are (their windows' free ends are cut off with the overlap). Measured on the whole TT course
-// (docs/lap.md "The banded LU, and the charge's price across the windows"): the largest residuals
+// (docs/lap_log.md "The banded LU, and the charge's price across the windows"): the largest residuals
 // of the stitched guess were those jumps, and the whole road's first step took 238 iterations
 // instead of 336 with them carried (190 with the junction's costates from the previous window).
 void CarrySlowCostatesUpstream(const std::vector<WindowJunction>& junctions,

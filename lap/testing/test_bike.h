@@ -2,11 +2,12 @@
 // data/bx15.yaml until session 20, with which the tests' saved reference solutions (lap times,
 // iteration counts) were measured. data/bx15.yaml has 80 V since (docs/bike.md); at 80 V the
 // tests' uncalibrated 600 A bike rides the voltage limit on fast roads and the indirect solver
-// fails two of them (docs/lap.md "Status"). Used by Bx15() (problem.h) and by the command-line
-// test whose saved figures depend on it (tests/lap_cli_test.cc).
+// fails two of them (docs/lap_log.md "The reference bike's motor voltage limit of 80 V"). Used by
+// Bx15() (problem.h) and by the command-line test whose saved figures depend on it
+// (tests/lap_cli_test.cc).
 // Likewise the price on rolling: 0, data/bx15.yaml's value until session 43 (the paper's model),
 // with which the lap tests' saved figures were measured; data/bx15.yaml has 0.1 since
-// (docs/lap.md "A price on rolling the bike"). Used by Bx15() and the same command-line test.
+// (docs/lap_log.md "A price on rolling the bike"). Used by Bx15() and the same command-line test.
 #pragma once
 
 namespace ttz::lap::testing {
