@@ -34,11 +34,13 @@ std::string JsonString(const std::string& s) {
   return out + "\"";
 }
 
-// "lap time differs by X %, states by Y %", or why there is no re-simulated lap time.
+// "lap time differs by X %, states by Y % (STATE at s = S m)", the state and place of the largest
+// difference, or why there is no re-simulated lap time.
 std::string ResimLine(const ResimReport& r) {
   if (!std::isfinite(r.lap_time)) return "no lap time (" + r.message + ")";
   return Printf("lap time differs by %.3g %%, ", 100.0 * r.lap_time_relative) +
-         Printf("states by %.3g %%", 100.0 * r.max_state_difference_all) + (r.passed ? "" : " (failed)");
+         Printf("states by %.3g %% (", 100.0 * r.max_state_difference_all) + kStateNames[r.worst_state] +
+         Printf(" at s = %.0f m", r.worst_s) + (r.passed ? ")" : "; failed)");
 }
 
 }  // namespace
@@ -84,6 +86,8 @@ std::string LapReportJson(const LapSolution& sol, const SolveSummary& summary, c
     << ", \"resim_lap_time_difference\": " << JsonNumber(resim.lap_time_difference)
     << ", \"resim_lap_time_relative\": " << JsonNumber(resim.lap_time_relative)
     << ", \"resim_max_state_difference\": " << JsonNumber(resim.max_state_difference_all)
+    << ", \"resim_worst_state\": " << JsonString(kStateNames[resim.worst_state])
+    << ", \"resim_worst_s\": " << JsonNumber(resim.worst_s)
     << ", \"resim_passed\": " << (resim.passed ? "true" : "false")
     << ", \"iterations\": " << summary.iterations
     << ", \"solve_seconds\": " << JsonNumber(summary.solve_seconds)

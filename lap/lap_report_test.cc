@@ -31,6 +31,8 @@ class LapReportFigures : public ::testing::Test {
     resim.lap_time_difference = -0.001;
     resim.lap_time_relative = 1e-4;
     resim.max_state_difference_all = 2.5e-4;
+    resim.worst_state = kV;
+    resim.worst_s = 123.4;
   }
   LapSolution sol;
   SolveSummary summary;
@@ -45,13 +47,13 @@ TEST_F(LapReportFigures, TextInHumanUnits) {
   EXPECT_NE(text.find("72.0 km/h"), std::string::npos) << text;
   EXPECT_NE(text.find("0.51 MJ (1.0 % of the pack)"), std::string::npos) << text;
   EXPECT_NE(text.find("90.0 km/h"), std::string::npos) << text;
-  EXPECT_NE(text.find("re-simulation  lap time differs by 0.01 %, states by 0.025 %\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("re-simulation  lap time differs by 0.01 %, states by 0.025 % (V at s = 123 m)\n"), std::string::npos) << text;
   EXPECT_NE(text.find("converged      yes"), std::string::npos) << text;
 }
 
 TEST_F(LapReportFigures, TextSaysWhenTheReSimulationFailedOrDiverged) {
   resim.passed = false;
-  EXPECT_NE(LapReportText(sol, summary, f, resim).find("states by 0.025 % (failed)\n"), std::string::npos);
+  EXPECT_NE(LapReportText(sol, summary, f, resim).find("states by 0.025 % (V at s = 123 m; failed)\n"), std::string::npos);
   resim.lap_time = NAN;
   resim.message = "re-simulation diverged: phi off by 120 % of its scale at s = 30 m";
   EXPECT_NE(LapReportText(sol, summary, f, resim).find("re-simulation  no lap time (" + resim.message + ")\n"),
@@ -76,6 +78,7 @@ TEST_F(LapReportFigures, JsonInSiUnitsWithNullForNonFinite) {
   EXPECT_NE(json.find("\"converged\": false"), std::string::npos) << json;
   EXPECT_NE(json.find("\"resim_lap_time_relative\": 0.0001,"), std::string::npos) << json;
   EXPECT_NE(json.find("\"resim_passed\": true"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"resim_worst_state\": \"V\", \"resim_worst_s\": 123.4,"), std::string::npos) << json;
   EXPECT_NE(json.find("\"nodes\": 3}"), std::string::npos) << json;
 }
 

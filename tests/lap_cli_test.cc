@@ -209,7 +209,7 @@ TEST_F(LapCli, AConvergedSolveThatFailsTheReSimulationExits4) {
   EXPECT_NE(run.stderr_text.find("the solution failed its re-simulation check ("), std::string::npos)
       << run.stderr_text;
   EXPECT_TRUE(std::regex_search(run.stdout_text, std::regex("re-simulation  lap time differs by [0-9.]+ %, "
-                                                            "states by [0-9.]+ % \\(failed\\)\n")))
+                                                            "states by [0-9.]+ % \\([A-Za-z_]+ at s = [0-9]+ m; failed\\)\n")))
       << run.stdout_text;
   const ttz::ArtefactReader r(Path("lap.h5"), "ttz.lap", 3);
   EXPECT_TRUE(r.ReadBoolAttribute("converged"));
