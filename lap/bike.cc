@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <stdexcept>
 #include <sstream>
 
 #include "common/csv.h"
@@ -395,6 +396,19 @@ std::vector<std::string> BikeKeys() {
   std::vector<std::string> paths;
   for (const KeySpec& k : Keys()) paths.push_back(k.Path());
   return paths;
+}
+
+std::vector<std::string> RealBikeKeys() {
+  std::vector<std::string> paths;
+  for (const KeySpec& k : Keys())
+    if (k.real) paths.push_back(k.Path());
+  return paths;
+}
+
+double& RealBikeValue(BikeParams& p, const std::string& path) {
+  const KeySpec* spec = FindKey(path);
+  if (!spec || !spec->real) throw std::invalid_argument("not a real-valued bike key: '" + path + "'");
+  return *spec->real(p);
 }
 
 BikeParams ParseBike(const std::string& yaml_text, const std::string& name,

@@ -180,5 +180,9 @@ std::string BikeToYaml(const BikeParams& p);
 
 // Every key path ("section.key") that bike.yaml must hold, in file order.
 std::vector<std::string> BikeKeys();
+// Those of them that hold a real number (not the integer counts of motors and cells), in file
+// order, and the value of one of them in `p` (std::invalid_argument for any other path).
+std::vector<std::string> RealBikeKeys();
+double& RealBikeValue(BikeParams& p, const std::string& path);
 
 }  // namespace ttz::lap

@@ -196,6 +196,23 @@ void WriteResim(ArtefactWriter& w, const ResimReport& r, size_t nodes) {
   w.WriteAttribute("resim_message", r.message);
 }
 
+void WriteSensitivities(ArtefactWriter& w, const std::vector<DesignSensitivity>& sensitivities) {
+  std::vector<std::string> key;
+  std::vector<double> value, per_unit, per_percent;
+  for (const DesignSensitivity& d : sensitivities) {
+    key.push_back(d.key);
+    value.push_back(d.value);
+    per_unit.push_back(d.per_unit);
+    per_percent.push_back(d.per_percent);
+  }
+  w.WriteStringVector("sensitivity/key", key, "bike.yaml key path of each row (its unit is in its name)");
+  w.WriteVector("sensitivity/value", value, "key's", "the key's value in this lap's bike");
+  w.WriteVector("sensitivity/per_unit", per_unit, "s per key's unit",
+                "d(lap time)/d(value) by the adjoint, on this mesh at this eps (lap/sensitivity.h)");
+  w.WriteVector("sensitivity/per_percent", per_percent, "s",
+                "the lap time 1 % more of the value costs: per_unit * value / 100");
+}
+
 // Reads the rows of a group ("state", "costate", "control": n = the nodes; "control_interval":
 // n = the intervals) into `rows`; `per` names what there is one row per, for the message.
 template <size_t N>
@@ -229,13 +246,15 @@ std::array<double, N> Interpolate(const std::vector<double>& s, const std::vecto
 
 void WriteLap(const std::string& path, const Vehicle& v, const LapSolution& sol,
               const SolveSummary& summary, const LapChannels& channels, const QssLap& qss,
-              const ResimReport& resim, const LapProvenance& provenance) {
+              const ResimReport& resim, const std::vector<DesignSensitivity>& sensitivities,
+              const LapProvenance& provenance) {
   ArtefactWriter w(path, kLapSchema, kLapSchemaVersion);
   WriteAlongS(w, v, sol, channels);
   WriteQss(w, qss);
   WriteContinuation(w, summary);
   WriteAttributes(w, sol, summary, channels, qss, provenance);
   WriteResim(w, resim, sol.s.size());
+  if (!sensitivities.empty()) WriteSensitivities(w, sensitivities);
   w.Commit();
 }
 

@@ -1,4 +1,4 @@
-// lap.h5: the optimal lap on its arc-length mesh (schema "ttz.lap", version 3), and the part of it
+// lap.h5: the optimal lap on its arc-length mesh (schema "ttz.lap", version 4), and the part of it
 // that warm-starts another solve (`lap --init`). Every dataset, unit and attribute is documented
 // in docs/lap_h5.md.
 #pragma once
@@ -12,12 +12,14 @@
 #include "lap/model/vehicle.h"
 #include "lap/qss.h"
 #include "lap/resimulate.h"
+#include "lap/sensitivity.h"
 #include "lap/solver/solution.h"
 
 namespace ttz::lap {
 
 inline constexpr const char* kLapSchema = "ttz.lap";
-inline constexpr int kLapSchemaVersion = 3;  // 2: Omega_z a state, dOmega_z_dt a control; 3: control_interval
+inline constexpr int kLapSchemaVersion = 4;  // 2: Omega_z a state, dOmega_z_dt a control; 3: control_interval;
+                                             // 4: sensitivity/*
 inline constexpr int kLapOldestWarmStartVersion = 2;  // --init reads version 2 too (no control_interval)
 
 // The options the solver ran with, as lap.h5 records them.
@@ -49,9 +51,11 @@ struct LapProvenance {
 
 // Writes atomically (ttz::ArtefactWriter); also when the solve did not converge. The costates
 // are written as those of the physical states (the solver's scaled ones divided by the scales).
+// `sensitivities` (lap/sensitivity.h) go to sensitivity/*, written only when there are any.
 void WriteLap(const std::string& path, const Vehicle& v, const LapSolution& sol,
               const SolveSummary& summary, const LapChannels& channels, const QssLap& qss,
-              const ResimReport& resim, const LapProvenance& provenance);
+              const ResimReport& resim, const std::vector<DesignSensitivity>& sensitivities,
+              const LapProvenance& provenance);
 
 // An earlier solution, as read from its lap.h5.
 struct WarmStart {

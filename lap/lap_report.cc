@@ -1,5 +1,6 @@
 #include "lap/lap_report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -43,6 +44,23 @@ std::string ResimLine(const ResimReport& r) {
          Printf(" at s = %.0f m", r.worst_s) + (r.passed ? ")" : "; failed)");
 }
 
+// The largest sensitivities by size, one per line: "key  +0.123 s".
+std::string SensitivityLines(const std::vector<DesignSensitivity>& sensitivities) {
+  std::vector<DesignSensitivity> largest = sensitivities;
+  const size_t shown = std::min<size_t>(largest.size(), kReportedSensitivities);
+  std::partial_sort(largest.begin(), largest.begin() + shown, largest.end(),
+                    [](const DesignSensitivity& a, const DesignSensitivity& b) {
+                      return std::abs(a.per_percent) > std::abs(b.per_percent);
+                    });
+  std::string lines = "sensitivity    lap time per 1 % more of (the largest; all in lap.h5 sensitivity/*):\n";
+  for (size_t i = 0; i < shown; ++i) {
+    char line[160];
+    std::snprintf(line, sizeof line, "               %-48s %+.3f s\n", largest[i].key.c_str(), largest[i].per_percent);
+    lines += line;
+  }
+  return lines;
+}
+
 }  // namespace
 
 std::string FormatLapTime(double seconds) {
@@ -54,7 +72,7 @@ std::string FormatLapTime(double seconds) {
 }
 
 std::string LapReportText(const LapSolution& sol, const SolveSummary& summary, const LapFigures& f,
-                          const ResimReport& resim) {
+                          const ResimReport& resim, const std::vector<DesignSensitivity>& sensitivities) {
   std::ostringstream o;
   o << "lap time       " << FormatLapTime(f.lap_time) << Printf("  (%.3f s; ", f.lap_time)
     << Printf("extrapolated to no barrier: %.3f s)\n", sol.lap_time_extrapolated);
@@ -64,11 +82,12 @@ std::string LapReportText(const LapSolution& sol, const SolveSummary& summary, c
   o << "top speed      " << Printf("%.1f km/h\n", f.top_speed * kKmH);
   o << "re-simulation  " << ResimLine(resim) << "\n";
   o << "converged      " << (summary.converged ? "yes" : "no (" + SolveMessage(summary) + ")") << "\n";
+  if (!sensitivities.empty()) o << SensitivityLines(sensitivities);
   return o.str();
 }
 
 std::string LapReportJson(const LapSolution& sol, const SolveSummary& summary, const LapFigures& f,
-                          const ResimReport& resim) {
+                          const ResimReport& resim, const std::vector<DesignSensitivity>& sensitivities) {
   std::ostringstream o;
   o << "{\"lap_time\": " << JsonNumber(f.lap_time)
     << ", \"lap_time_text\": " << JsonString(FormatLapTime(f.lap_time))
@@ -91,7 +110,10 @@ std::string LapReportJson(const LapSolution& sol, const SolveSummary& summary, c
     << ", \"resim_passed\": " << (resim.passed ? "true" : "false")
     << ", \"iterations\": " << summary.iterations
     << ", \"solve_seconds\": " << JsonNumber(summary.solve_seconds)
-    << ", \"nodes\": " << sol.s.size() << "}\n";
+    << ", \"nodes\": " << sol.s.size() << ", \"sensitivity_per_percent\": {";
+  for (size_t i = 0; i < sensitivities.size(); ++i)
+    o << (i > 0 ? ", " : "") << JsonString(sensitivities[i].key) << ": " << JsonNumber(sensitivities[i].per_percent);
+  o << "}}\n";
   return o.str();
 }
 

@@ -2,9 +2,11 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "lap/lap_channels.h"
 #include "lap/resimulate.h"
+#include "lap/sensitivity.h"
 #include "lap/solver/solution.h"
 
 namespace ttz::lap {
@@ -13,13 +15,16 @@ namespace ttz::lap {
 std::string FormatLapTime(double seconds);
 
 // Lap time, average speed [km/h], energy used [MJ] and % of the pack, top speed [km/h], the
-// re-simulation's lap-time and largest state difference [%], converged.
+// re-simulation's lap-time and largest state difference [%], converged, and the
+// kReportedSensitivities largest design sensitivities (lap time per 1 % more of a bike value).
 std::string LapReportText(const LapSolution& sol, const SolveSummary& summary, const LapFigures& f,
-                          const ResimReport& resim);
+                          const ResimReport& resim, const std::vector<DesignSensitivity>& sensitivities);
+inline constexpr int kReportedSensitivities = 5;
 
 // The same figures as one JSON object on one line, named and in SI units as lap.h5's attributes
-// (docs/lap_h5.md); non-finite numbers are null.
+// (docs/lap_h5.md), every sensitivity as "sensitivity_per_percent": {key: seconds}; non-finite
+// numbers are null.
 std::string LapReportJson(const LapSolution& sol, const SolveSummary& summary, const LapFigures& f,
-                          const ResimReport& resim);
+                          const ResimReport& resim, const std::vector<DesignSensitivity>& sensitivities);
 
 }  // namespace ttz::lap

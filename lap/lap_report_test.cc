@@ -42,7 +42,7 @@ class LapReportFigures : public ::testing::Test {
 
 TEST_F(LapReportFigures, TextInHumanUnits) {
   summary.converged = true;
-  const std::string text = LapReportText(sol, summary, f, resim);
+  const std::string text = LapReportText(sol, summary, f, resim, {});
   EXPECT_NE(text.find("0:10.0"), std::string::npos) << text;
   EXPECT_NE(text.find("72.0 km/h"), std::string::npos) << text;
   EXPECT_NE(text.find("0.51 MJ (1.0 % of the pack)"), std::string::npos) << text;
@@ -53,23 +53,23 @@ TEST_F(LapReportFigures, TextInHumanUnits) {
 
 TEST_F(LapReportFigures, TextSaysWhenTheReSimulationFailedOrDiverged) {
   resim.passed = false;
-  EXPECT_NE(LapReportText(sol, summary, f, resim).find("states by 0.025 % (V at s = 123 m; failed)\n"), std::string::npos);
+  EXPECT_NE(LapReportText(sol, summary, f, resim, {}).find("states by 0.025 % (V at s = 123 m; failed)\n"), std::string::npos);
   resim.lap_time = NAN;
   resim.message = "re-simulation diverged: phi off by 120 % of its scale at s = 30 m";
-  EXPECT_NE(LapReportText(sol, summary, f, resim).find("re-simulation  no lap time (" + resim.message + ")\n"),
+  EXPECT_NE(LapReportText(sol, summary, f, resim, {}).find("re-simulation  no lap time (" + resim.message + ")\n"),
             std::string::npos);
 }
 
 TEST_F(LapReportFigures, TextSaysWhyNotConverged) {
   summary.message = "residual 0.1; ";
-  EXPECT_NE(LapReportText(sol, summary, f, resim).find("converged      no (residual 0.1)"), std::string::npos);
+  EXPECT_NE(LapReportText(sol, summary, f, resim, {}).find("converged      no (residual 0.1)"), std::string::npos);
   EXPECT_EQ(SolveMessage(summary), "residual 0.1");
 }
 
 TEST_F(LapReportFigures, JsonInSiUnitsWithNullForNonFinite) {
   summary.max_residual = HUGE_VAL;
   summary.message = "say \"why\"";
-  const std::string json = LapReportJson(sol, summary, f, resim);
+  const std::string json = LapReportJson(sol, summary, f, resim, {});
   EXPECT_EQ(json.front(), '{');
   EXPECT_EQ(json.substr(json.size() - 2), "}\n");
   EXPECT_NE(json.find("\"lap_time\": 10.04,"), std::string::npos) << json;
@@ -79,7 +79,25 @@ TEST_F(LapReportFigures, JsonInSiUnitsWithNullForNonFinite) {
   EXPECT_NE(json.find("\"resim_lap_time_relative\": 0.0001,"), std::string::npos) << json;
   EXPECT_NE(json.find("\"resim_passed\": true"), std::string::npos) << json;
   EXPECT_NE(json.find("\"resim_worst_state\": \"V\", \"resim_worst_s\": 123.4,"), std::string::npos) << json;
-  EXPECT_NE(json.find("\"nodes\": 3}"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"nodes\": 3, \"sensitivity_per_percent\": {}}"), std::string::npos) << json;
+}
+
+// The text names the kReportedSensitivities largest by size, largest first; the JSON has them all.
+TEST_F(LapReportFigures, TheLargestSensitivitiesFirstAndAllInJson) {
+  std::vector<DesignSensitivity> all;
+  for (int i = 0; i < kReportedSensitivities + 2; ++i)  // sizes 0, -0.1, 0.2, -0.3, ...
+    all.push_back({"section.key" + std::to_string(i), 1.0, 0.0, (i % 2 ? -0.1 : 0.1) * i});
+  const std::string text = LapReportText(sol, summary, f, resim, all);
+  const size_t largest = text.find("section.key6"), next = text.find("section.key5");
+  ASSERT_NE(largest, std::string::npos) << text;
+  EXPECT_LT(largest, next) << text;
+  EXPECT_NE(text.find("+0.600 s"), std::string::npos) << text;
+  EXPECT_NE(text.find("-0.500 s"), std::string::npos) << text;
+  EXPECT_EQ(text.find("section.key1 "), std::string::npos) << text;  // the two smallest are left out
+  EXPECT_EQ(text.find("section.key0 "), std::string::npos) << text;
+  const std::string json = LapReportJson(sol, summary, f, resim, all);
+  EXPECT_NE(json.find("\"sensitivity_per_percent\": {\"section.key0\": 0, \"section.key1\": -0.1,"),
+            std::string::npos) << json;
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <glog/logging.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -23,6 +24,7 @@
 #include "lap/qss.h"
 #include "lap/resimulate.h"
 #include "lap/road_track.h"
+#include "lap/sensitivity.h"
 #include "lap/solver/indirect.h"
 #include "lap/solver/ipopt_direct.h"
 
@@ -257,6 +259,20 @@ void SetWindowChargePrice(const Vehicle& v, const RoadTrack& track, const std::v
   ttz::Log(ttz::LogKind::kInfo, o.str());
 }
 
+// The design sensitivities of a converged answer (elsewhere the costates are not the answer's
+// multipliers), logged with their time.
+std::vector<DesignSensitivity> Sensitivities(const BikeParams& bike, const RoadTrack& track, const LapSolution& sol,
+                                             const SolveSummary& summary, int threads) {
+  if (!summary.converged || !HasSensitivities(sol)) return {};
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<DesignSensitivity> out = DesignSensitivities(bike, track, sol, threads);
+  std::ostringstream o;
+  o << "design sensitivities of " << out.size() << " bike values by the adjoint in "
+    << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s";
+  ttz::Log(ttz::LogKind::kInfo, o.str());
+  return out;
+}
+
 int Run(const Arguments& a) {
   CheckOutputFolder(a.output);
   const ttz::RoadArtefact road = ttz::ReadRoad(a.road);
@@ -284,11 +300,12 @@ int Run(const Arguments& a) {
   const LapSolution sol = Solve(a, v, track, mesh, qss, start, ipopt, options, &summary);
   const ResimReport resim = Resimulate(v, track, sol, ResimOptions{});
   const LapChannels channels = ComputeLapChannels(v, track, sol);
-  WriteLap(a.output, v, sol, summary, channels, qss, resim,
+  const std::vector<DesignSensitivity> sensitivities = Sensitivities(bike, track, sol, summary, options.num_threads);
+  WriteLap(a.output, v, sol, summary, channels, qss, resim, sensitivities,
            {a.solver, BikeToYaml(bike), a.road, road_sha256, track.Length(), a.init, a.mesh, mesh_from_init,
             start.kind, start.lap_time, SolverOptionsOf(a, ipopt, options)});
-  std::cout << (a.json ? LapReportJson(sol, summary, channels.figures, resim)
-                       : LapReportText(sol, summary, channels.figures, resim))
+  std::cout << (a.json ? LapReportJson(sol, summary, channels.figures, resim, sensitivities)
+                       : LapReportText(sol, summary, channels.figures, resim, sensitivities))
             << std::flush;
   if (!summary.converged) {
     // Neither solver converges on every lap: the indirect one not on every 5 km road nor on the

@@ -38,6 +38,9 @@ Rows:
                     mean/max [kW], motor voltage max [V], motor current max [A] (all motors).
                     Means are time-weighted (trapezoids in t over the lap time), not node means:
                     the mesh is not uniform in time.
+What buys time: when the lap has design sensitivities (sensitivity/key and sensitivity/per_percent,
+lap/sensitivity.h: the indirect solver's laps), a second table lists the SENSITIVITY_ROWS largest
+by size, the lap time 1 % more of each bike value costs (negative: buys), with the value itself.
 The header names the lap file and its converged / resim_passed attributes; a lap that did not
 converge is flagged at the top. Constraints whose max_violation_<kind> exceeds the solver's
 1e-4 tolerance are listed there too.
@@ -56,6 +59,7 @@ import study_report
 import ttz_h5
 
 KMH = 3.6  # (km/h) per (m/s)
+SENSITIVITY_ROWS = 10
 CHANNELS = ("t", "state/V", "tyre/force_x", "wheel/power", "battery/power", "battery/current",
             "battery/voltage", "motor/voltage", "motor/current")
 VIOLATION_TOLERANCE = 1e-4   # docs/lap_h5.md: the check allows 1e-4
@@ -99,9 +103,34 @@ def read_lap(path):
         attrs["violations"] = {name[len("max_violation_"):]: lap.attr(name)
                                for name in sorted(lap.h5.attrs)
                                if name.startswith("max_violation_")}
+        attrs["sensitivities"] = read_sensitivities(lap)
         return channels, attrs
     finally:
         lap.h5.close()
+
+
+def read_sensitivities(lap):
+    """[(key, value, seconds per 1 % more)] of sensitivity/*, or [] for a lap without them."""
+    if not lap.has("sensitivity/key"):
+        return []
+    keys = lap.strings("sensitivity/key")
+    value = lap.data("sensitivity/value", len(keys))
+    per_percent = lap.data("sensitivity/per_percent", len(keys))
+    if not np.all(np.isfinite(per_percent)):
+        raise ttz_h5.InputError(lap.path, "dataset 'sensitivity/per_percent' has non-finite values")
+    return list(zip(keys, value, per_percent))
+
+
+def sensitivity_lines(sensitivities):
+    """The SENSITIVITY_ROWS largest sensitivities by size as a markdown section ([] without any)."""
+    if not sensitivities:
+        return []
+    largest = sorted(sensitivities, key=lambda row: -abs(row[2]))[:SENSITIVITY_ROWS]
+    rows = [[f"`{key}`", f"{value:.6g}", f"{per_percent:+.3f} s"] for key, value, per_percent in largest]
+    return ["", "## What buys lap time (design sensitivities of this lap, lap.h5 sensitivity/*)", "",
+            "The lap time 1 % more of each bike value costs (negative: buys), by the adjoint of "
+            f"the solve (lap/sensitivity.h); the {len(largest)} largest of {len(sensitivities)}.", ""
+            ] + study_report.table(["bike value", "value", "lap time per 1 % more"], rows)
 
 
 def read_calibration(path):
@@ -298,7 +327,8 @@ def report_text(lap_path, attrs, ours, calibration, bike):
     table = study_report.table(["figure", "paper", "ours", "difference %",
                                 "source in paper / note"],
                                rows(ours, calibration, bike, lap_path))
-    return "\n".join(header(lap_path, attrs) + table + [""]), "\n".join(table)
+    lines = header(lap_path, attrs) + table + sensitivity_lines(attrs["sensitivities"])
+    return "\n".join(lines + [""]), "\n".join(table)
 
 
 def parse_args():

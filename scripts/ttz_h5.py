@@ -17,7 +17,7 @@ import numpy as np
 LAP_SCHEMA = "ttz.lap"
 # Version 1 had Omega_z in control/; version 2 has it in state/ (read by omega_z() below); version 3
 # (docs/lap_h5.md) adds control_interval/, which the scripts do not read. Any other version is refused.
-LAP_VERSIONS = (1, 2, 3)
+LAP_VERSIONS = (1, 2, 3, 4)
 ROAD_SCHEMA = "ttz.road"
 ROAD_VERSIONS = (1,)
 EARTH_RADIUS_M = 6371000.0
@@ -84,6 +84,12 @@ class Artefact:
     def has(self, name):
         """True if the dataset exists."""
         return name in self.h5 and hasattr(self.h5[name], "shape")
+
+    def strings(self, name):
+        """String dataset `name` as a list of str."""
+        if not self.has(name):
+            raise InputError(self.path, f"missing dataset '{name}'")
+        return [_text(value) for value in np.asarray(self.h5[name][()]).reshape(-1)]
 
     def data(self, name, length=None):
         """Dataset `name` as a float array (its units: docs/*_h5.md); checks its length."""

@@ -12,6 +12,7 @@
 
 #include "common/artefact.h"
 #include "common/road_artefact.h"
+#include "lap/bike.h"
 #include "lap/model/constraints.h"
 #include "lap/solver/indirect.h"
 #include "lap/solver/ipopt_direct.h"
@@ -130,10 +131,21 @@ TEST_F(LapCli, AStraightRoadSolvesWritesLapH5AndWarmStartsTheNextSolve) {
       << run.stdout_text;
   EXPECT_NE(run.stdout_text.find("re-simulation  lap time differs by "), std::string::npos) << run.stdout_text;
   EXPECT_NE(run.stdout_text.find("converged      yes"), std::string::npos) << run.stdout_text;
+  EXPECT_NE(run.stdout_text.find("sensitivity    lap time per 1 % more of"), std::string::npos) << run.stdout_text;
 
   const std::string lap = Path("lap.h5");
-  const ttz::ArtefactReader r(lap, "ttz.lap", 3);
+  const ttz::ArtefactReader r(lap, "ttz.lap", 4);
   EXPECT_TRUE(r.ReadBoolAttribute("converged"));
+  // Design sensitivities (lap/sensitivity.h): one row per real bike.yaml key; on a level straight
+  // from a standing start more mass costs time, a larger motor-current limit buys some.
+  const std::vector<double> per_percent = r.ReadVector("sensitivity/per_percent", "s");
+  const std::vector<std::string> keys = ttz::lap::RealBikeKeys();
+  ASSERT_EQ(per_percent.size(), keys.size());
+  const auto of = [&](const std::string& key) {
+    return per_percent[std::find(keys.begin(), keys.end(), key) - keys.begin()];
+  };
+  EXPECT_GT(of("chassis.base_mass_kg"), 0.0);
+  EXPECT_LT(of("motor.current_max_a"), 0.0);
   EXPECT_EQ(r.ReadStringAttribute("road_sha256"), ttz::FileSha256(road));
   EXPECT_EQ(r.ReadStringAttribute("guess"), "racing-line");  // the default
   EXPECT_GT(r.ReadDoubleAttribute("guess_lap_time"), r.ReadDoubleAttribute("lap_time"));
@@ -159,7 +171,7 @@ TEST_F(LapCli, AStraightRoadSolvesWritesLapH5AndWarmStartsTheNextSolve) {
   EXPECT_EQ(std::count(warm.stdout_text.begin(), warm.stdout_text.end(), '\n'), 1) << warm.stdout_text;
   EXPECT_NE(warm.stdout_text.find("\"lap_time\": "), std::string::npos) << warm.stdout_text;
   EXPECT_NE(warm.stdout_text.find("\"converged\": true"), std::string::npos) << warm.stdout_text;
-  const ttz::ArtefactReader w(Path("warm.h5"), "ttz.lap", 3);
+  const ttz::ArtefactReader w(Path("warm.h5"), "ttz.lap", 4);
   EXPECT_EQ(w.ReadStringAttribute("init_file"), lap);
   EXPECT_FALSE(w.ReadBoolAttribute("mesh_from_init"));  // --ds 4, not 2
   EXPECT_EQ(w.ReadStringAttribute("guess"), "init");
@@ -176,10 +188,11 @@ TEST_F(LapCli, TheIpoptOracleSolvesAndWarmStartsTheIndirectSolver) {
   const std::string road = Road("straight100.h5", StraightRoad(100.0));
   const CliRun ipopt = Lap(road + " " + kBike + " --ds 1 -q --solver ipopt", "ipopt.h5");
   ASSERT_EQ(ipopt.exit_code, 0) << ipopt.stderr_text << ipopt.stdout_text;
-  const ttz::ArtefactReader r(Path("ipopt.h5"), "ttz.lap", 3);
+  const ttz::ArtefactReader r(Path("ipopt.h5"), "ttz.lap", 4);
   EXPECT_EQ(r.ReadStringAttribute("solver"), "ipopt");
   EXPECT_EQ(r.ReadDoubleAttribute("eps"), 0.0);
   EXPECT_TRUE(r.ReadBoolAttribute("converged"));
+  EXPECT_FALSE(r.HasDataset("sensitivity/per_percent"));  // no barrier costates (lap/sensitivity.h)
   EXPECT_TRUE(r.ReadBoolAttribute("resim_passed"));
   // Ipopt checks the nodes too: what the solver checked and what the nodes report both hold.
   for (const char* kind : ttz::lap::kConstraintNames) {
@@ -192,7 +205,7 @@ TEST_F(LapCli, TheIpoptOracleSolvesAndWarmStartsTheIndirectSolver) {
 
   const CliRun warm = Lap(road + " " + kBike + " --ds 1 -q --init " + Path("ipopt.h5"), "warm.h5");
   ASSERT_EQ(warm.exit_code, 0) << warm.stderr_text << warm.stdout_text;
-  const ttz::ArtefactReader w(Path("warm.h5"), "ttz.lap", 3);
+  const ttz::ArtefactReader w(Path("warm.h5"), "ttz.lap", 4);
   EXPECT_EQ(w.ReadStringAttribute("solver"), "indirect");
   EXPECT_NEAR(w.ReadDoubleAttribute("lap_time_extrapolated"), r.ReadDoubleAttribute("lap_time"),
               1e-3 * r.ReadDoubleAttribute("lap_time"));
@@ -211,7 +224,7 @@ TEST_F(LapCli, AConvergedSolveThatFailsTheReSimulationExits4) {
   EXPECT_TRUE(std::regex_search(run.stdout_text, std::regex("re-simulation  lap time differs by [0-9.]+ %, "
                                                             "states by [0-9.]+ % \\([A-Za-z_]+ at s = [0-9]+ m; failed\\)\n")))
       << run.stdout_text;
-  const ttz::ArtefactReader r(Path("lap.h5"), "ttz.lap", 3);
+  const ttz::ArtefactReader r(Path("lap.h5"), "ttz.lap", 4);
   EXPECT_TRUE(r.ReadBoolAttribute("converged"));
   EXPECT_FALSE(r.ReadBoolAttribute("resim_passed"));
   EXPECT_GT(r.ReadDoubleAttribute("resim_max_state_difference"), 1e-3);
@@ -229,7 +242,7 @@ TEST_F(LapCli, TheTimeLimitedMeshResolvesTheLaunch) {
   const std::string road = Road("straight100.h5", StraightRoad(100.0));
   const CliRun run = Lap(road + " " + kBike + " --ds 50 -q --solver ipopt");
   EXPECT_EQ(run.exit_code, 0) << run.stderr_text;
-  const ttz::ArtefactReader r(Path("lap.h5"), "ttz.lap", 3);
+  const ttz::ArtefactReader r(Path("lap.h5"), "ttz.lap", 4);
   EXPECT_TRUE(r.ReadBoolAttribute("resim_passed"));
   EXPECT_GT(r.ReadIntAttribute("nodes"), 3);
   EXPECT_DOUBLE_EQ(r.ReadDoubleAttribute("mesh_ds"), 50.0);
@@ -261,8 +274,8 @@ TEST_F(LapCli, AnIpoptLapWarmStartsIpoptOnItsOwnMesh) {
   ASSERT_TRUE(solved(options + " --init " + Path("a.h5"), "again.h5"));
   ASSERT_TRUE(solved(options + gear, "cold.h5"));
   ASSERT_TRUE(solved(options + gear + " --init " + Path("a.h5"), "warm.h5"));
-  const ttz::ArtefactReader a(Path("a.h5"), "ttz.lap", 3), again(Path("again.h5"), "ttz.lap", 3),
-      cold(Path("cold.h5"), "ttz.lap", 3), warm(Path("warm.h5"), "ttz.lap", 3);
+  const ttz::ArtefactReader a(Path("a.h5"), "ttz.lap", 4), again(Path("again.h5"), "ttz.lap", 4),
+      cold(Path("cold.h5"), "ttz.lap", 4), warm(Path("warm.h5"), "ttz.lap", 4);
   EXPECT_EQ(a.ReadStringAttribute("guess"), "centre-line");  // Ipopt's default (lap/main.cc)
   EXPECT_EQ(again.ReadVector("s", "m"), a.ReadVector("s", "m"));
   EXPECT_LT(again.ReadIntAttribute("iterations"), a.ReadIntAttribute("iterations") / 2);
@@ -284,7 +297,7 @@ TEST_F(LapCli, OneIntervalAndVersion2LapsWarmStart) {
   const std::string options = road + " " + kBike + " -q --solver ipopt";
   const int one = Lap(options + " --ds 200 --dt-max 0", "one.h5").exit_code;
   ASSERT_TRUE(one == 0 || one == 4);  // converged; the 100 m interval does not re-simulate
-  ASSERT_EQ(ttz::ArtefactReader(Path("one.h5"), "ttz.lap", 3).ReadIntAttribute("nodes"), 2);
+  ASSERT_EQ(ttz::ArtefactReader(Path("one.h5"), "ttz.lap", 4).ReadIntAttribute("nodes"), 2);
   EXPECT_EQ(Lap(options + " --ds 10 --init " + Path("one.h5"), "from_one.h5").exit_code, 0);
 
   ASSERT_EQ(Lap(options + " --ds 10", "v3.h5").exit_code, 0);
@@ -298,7 +311,7 @@ TEST_F(LapCli, OneIntervalAndVersion2LapsWarmStart) {
   H5Fclose(file);
   const CliRun from_v2 = Lap(options + " --ds 10 --init " + Path("v3.h5"), "from_v2.h5");
   EXPECT_EQ(from_v2.exit_code, 0) << from_v2.stderr_text;
-  EXPECT_TRUE(ttz::ArtefactReader(Path("from_v2.h5"), "ttz.lap", 3).ReadBoolAttribute("mesh_from_init"));
+  EXPECT_TRUE(ttz::ArtefactReader(Path("from_v2.h5"), "ttz.lap", 4).ReadBoolAttribute("mesh_from_init"));
 }
 
 TEST_F(LapCli, ASolveThatDoesNotConvergeExits3AndStillWritesLapH5) {
@@ -312,7 +325,7 @@ TEST_F(LapCli, ASolveThatDoesNotConvergeExits3AndStillWritesLapH5) {
       << run.stderr_text;
   EXPECT_NE(run.stderr_text.find("--solver ipopt solves the same problem"), std::string::npos) << run.stderr_text;
   EXPECT_NE(run.stdout_text.find("converged      no ("), std::string::npos) << run.stdout_text;
-  const ttz::ArtefactReader r(Path("lap.h5"), "ttz.lap", 3);
+  const ttz::ArtefactReader r(Path("lap.h5"), "ttz.lap", 4);
   EXPECT_FALSE(r.ReadBoolAttribute("converged"));
   EXPECT_NE(r.ReadStringAttribute("message").find("continuation failed"), std::string::npos);
 }
@@ -328,7 +341,7 @@ TEST_F(LapCli, ARoadLongerThan5kmIsSolvedInWindows) {
   const CliRun run = Lap(long_road + " " + kBike + " --ds 100 -q --max-iterations 1", "default.h5");
   EXPECT_EQ(run.exit_code, 3) << run.stderr_text;
   EXPECT_EQ(run.stderr_text.find(warning), std::string::npos) << run.stderr_text;
-  const ttz::ArtefactReader windows(Path("default.h5"), "ttz.lap", 3);
+  const ttz::ArtefactReader windows(Path("default.h5"), "ttz.lap", 4);
   EXPECT_EQ(windows.ReadDoubleAttribute("window_m"), 3000.0);
   EXPECT_EQ(windows.ReadDoubleAttribute("window_overlap_m"), 500.0);
   EXPECT_EQ(windows.ReadIntAttribute("max_iterations"), 1);  // given: not the long road's 600
@@ -349,7 +362,7 @@ TEST_F(LapCli, AnIpoptOptFileInTheWorkingDirectoryIsIgnored) {
   const std::string command = "cd " + dir_.string() + " && " + kLap + " " + road + " " + kBike +
                               " --solver ipopt --ds 4 -q -o " + Path("lap.h5") + " > /dev/null 2>&1";
   EXPECT_EQ(WEXITSTATUS(std::system(command.c_str())), 0);
-  EXPECT_GT(ttz::ArtefactReader(Path("lap.h5"), "ttz.lap", 3).ReadIntAttribute("iterations"), 1);
+  EXPECT_GT(ttz::ArtefactReader(Path("lap.h5"), "ttz.lap", 4).ReadIntAttribute("iterations"), 1);
 }
 
 TEST_F(LapCli, AnIpoptSolveThatDoesNotConvergeExits3WithoutTheHintToUseIpopt) {
@@ -367,7 +380,7 @@ TEST_F(LapCli, RoadMissing) {
 TEST_F(LapCli, RoadOfAnotherSchema) {
   ExpectBadInput(Lap(kBike + " " + kBike), kBike + ": not an HDF5 file (a ttz.road artefact expected)");
   {
-    ttz::ArtefactWriter w(Path("a_lap.h5"), "ttz.lap", 3);
+    ttz::ArtefactWriter w(Path("a_lap.h5"), "ttz.lap", 4);
     w.Commit();
   }
   ExpectBadInput(Lap(Path("a_lap.h5") + " " + kBike),
@@ -449,7 +462,7 @@ TEST_F(LapCli, BothMuGlobalizationsSolveTheSameLap) {
   const CliRun kkt = Lap(options + "kkt-error", "kkt.h5");
   ASSERT_EQ(filter.exit_code, 0) << filter.stderr_text;
   ASSERT_EQ(kkt.exit_code, 0) << kkt.stderr_text;
-  const ttz::ArtefactReader filter_h5(Path("filter.h5"), "ttz.lap", 3), kkt_h5(Path("kkt.h5"), "ttz.lap", 3);
+  const ttz::ArtefactReader filter_h5(Path("filter.h5"), "ttz.lap", 4), kkt_h5(Path("kkt.h5"), "ttz.lap", 4);
   const double t_filter = filter_h5.ReadDoubleAttribute("lap_time");
   EXPECT_NEAR(kkt_h5.ReadDoubleAttribute("lap_time"), t_filter, 1e-6 * t_filter);
   EXPECT_EQ(filter_h5.ReadStringAttribute("mu_globalization"), "obj-constr-filter");
@@ -464,8 +477,8 @@ TEST_F(LapCli, AMonotoneBarrierFromTheLapItselfSolvesTheSameLap) {
   const CliRun monotone =
       Lap(options + " --init " + Path("adaptive.h5") + " --mu-strategy monotone --mu-init 1e-4", "monotone.h5");
   ASSERT_EQ(monotone.exit_code, 0) << monotone.stderr_text;
-  const ttz::ArtefactReader adaptive_h5(Path("adaptive.h5"), "ttz.lap", 3);
-  const ttz::ArtefactReader monotone_h5(Path("monotone.h5"), "ttz.lap", 3);
+  const ttz::ArtefactReader adaptive_h5(Path("adaptive.h5"), "ttz.lap", 4);
+  const ttz::ArtefactReader monotone_h5(Path("monotone.h5"), "ttz.lap", 4);
   const double t = adaptive_h5.ReadDoubleAttribute("lap_time");
   EXPECT_NEAR(monotone_h5.ReadDoubleAttribute("lap_time"), t, 1e-6 * t);
   EXPECT_EQ(adaptive_h5.ReadStringAttribute("mu_strategy"), "adaptive");
@@ -477,7 +490,7 @@ TEST_F(LapCli, LapH5RecordsTheIterationLimitInEffect) {
   const std::string road = Road("straight100.h5", StraightRoad(100.0));
   ASSERT_EQ(Lap(road + " " + kBike + " --ds 4 -q --solver ipopt", "ipopt.h5").exit_code, 0);
   ASSERT_EQ(Lap(road + " " + kBike + " --ds 4 -q --max-iterations 250", "indirect.h5").exit_code, 0);
-  const ttz::ArtefactReader ipopt(Path("ipopt.h5"), "ttz.lap", 3), indirect(Path("indirect.h5"), "ttz.lap", 3);
+  const ttz::ArtefactReader ipopt(Path("ipopt.h5"), "ttz.lap", 4), indirect(Path("indirect.h5"), "ttz.lap", 4);
   EXPECT_EQ(ipopt.ReadIntAttribute("max_iterations"), ttz::lap::IpoptOptions{}.max_iterations);
   EXPECT_EQ(indirect.ReadIntAttribute("max_iterations"), 250);
   EXPECT_EQ(indirect.ReadStringAttribute("mu_globalization"), "");
@@ -489,7 +502,7 @@ TEST_F(LapCli, TheIndirectSolverSolvesInWindowsWhenAsked) {
   ASSERT_EQ(Lap(road + " " + kBike + " --ds 4 -q", "whole.h5").exit_code, 0);
   const CliRun run = Lap(road + " " + kBike + " --ds 4 -q --window 200 --window-overlap 50", "windows.h5");
   ASSERT_EQ(run.exit_code, 0) << run.stderr_text << run.stdout_text;
-  const ttz::ArtefactReader whole(Path("whole.h5"), "ttz.lap", 3), windows(Path("windows.h5"), "ttz.lap", 3);
+  const ttz::ArtefactReader whole(Path("whole.h5"), "ttz.lap", 4), windows(Path("windows.h5"), "ttz.lap", 4);
   EXPECT_EQ(whole.ReadDoubleAttribute("window_m"), 0.0);
   EXPECT_EQ(windows.ReadDoubleAttribute("window_m"), 200.0);
   EXPECT_EQ(windows.ReadDoubleAttribute("window_overlap_m"), 50.0);

@@ -12,6 +12,22 @@ double Transcription::NodeLength(int k) const {
   return 0.5 * ((k > 0 ? H(k - 1) : 0.0) + (k + 1 < NumNodes() ? H(k) : 0.0));
 }
 
+StateVector<double> Transcription::MidState(int k) const {
+  StateVector<double> xs;
+  for (int i = 0; i < kNumStates; ++i) xs[i] = 0.5 * (W(k)[i] + W(k + 1)[i]);
+  return xs;
+}
+
+StateVector<double> Transcription::MidCostate(int k) const {
+  StateVector<double> mu;
+  for (int i = 0; i < kNumStates; ++i) {
+    mu[i] = 0.5 * (W(k)[kNumStates + i] + W(k + 1)[kNumStates + i]);
+    if (node_barriers)
+      mu[i] += 0.5 * (RightShare(k) * nodes[k + 1].grad(i) - LeftShare(k) * nodes[k].grad(i));
+  }
+  return mu;
+}
+
 void Transcription::EvaluateMids(bool jacobians) {
   const int n = NumNodes() - 1;
   const BarrierWeight mid_weight = MidpointWeight(), node_weight = NodeWeight();
@@ -24,14 +40,7 @@ void Transcription::EvaluateMids(bool jacobians) {
       return true;  // validity is read from the nodes below
     });
   ForEachInterval(n, threads, [&](int k) {
-    StateVector<double> xs, mu;
-    for (int i = 0; i < kNumStates; ++i) {
-      xs[i] = 0.5 * (W(k)[i] + W(k + 1)[i]);
-      mu[i] = 0.5 * (W(k)[kNumStates + i] + W(k + 1)[kNumStates + i]);
-      if (node_barriers)
-        mu[i] += 0.5 * (RightShare(k) * nodes[k + 1].grad(i) - LeftShare(k) * nodes[k].grad(i));
-    }
-    EvaluateNode(*v, sc, road[k], mid_weight, xs, mu, jacobians, &mids[k]);
+    EvaluateNode(*v, sc, road[k], mid_weight, MidState(k), MidCostate(k), jacobians, &mids[k]);
     return true;  // validity is read from the midpoints below
   });
   all_valid = std::all_of(mids.begin(), mids.end(), [](const NodeData& d) { return d.valid; }) &&

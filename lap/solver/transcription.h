@@ -77,8 +77,14 @@ struct Transcription {
     return !node_barriers ? 0.0 : k + 2 == NumNodes() ? 1.0 : 0.5;
   }
 
-  // Evaluates the node barriers, then every midpoint at ((x~_k + x~_{k+1}) / 2, mu~_k): u*, F, G,
-  // and their derivatives if asked.
+  // Interval k's midpoint: the scaled state (x~_k + x~_{k+1}) / 2, and the costate mu~_k, the mean
+  // of the nodes' shifted by the node barriers' gradients of the last EvaluateMids
+  // (mu~_k = (lambda~_k + lambda~_{k+1}) / 2 + (b_k dB_{k+1}/dx~ - a_k dB_k/dx~) / 2): the
+  // multiplier of the interval's state defect in the discrete problem's Lagrangian.
+  StateVector<double> MidState(int k) const;
+  StateVector<double> MidCostate(int k) const;
+  // Evaluates the node barriers, then every midpoint at (MidState, MidCostate): u*, F, G, and
+  // their derivatives if asked.
   void EvaluateMids(bool jacobians);
   // sum_k h_k / sdot_{k+1/2} [s], from the last EvaluateMids.
   double LapTime() const;
