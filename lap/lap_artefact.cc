@@ -208,9 +208,10 @@ void WriteSensitivities(ArtefactWriter& w, const std::vector<DesignSensitivity>&
   w.WriteStringVector("sensitivity/key", key, "bike.yaml key path of each row (its unit is in its name)");
   w.WriteVector("sensitivity/value", value, "key's", "the key's value in this lap's bike");
   w.WriteVector("sensitivity/per_unit", per_unit, "s per key's unit",
-                "d(lap time)/d(value) by the adjoint, on this mesh at this eps (lap/sensitivity.h)");
+                "dJ/d(value) by the adjoint, J the lap time with the barriers' and the effort's share, on this "
+                "mesh at this eps (lap/sensitivity.h)");
   w.WriteVector("sensitivity/per_percent", per_percent, "s",
-                "the lap time 1 % more of the value costs: per_unit * value / 100");
+                "the lap time 1 % more of the value costs: per_unit * value / 100 (degC values in kelvin)");
 }
 
 // Reads the rows of a group ("state", "costate", "control": n = the nodes; "control_interval":

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <sstream>
 
 namespace ttz::lap {
@@ -44,9 +45,11 @@ std::string ResimLine(const ResimReport& r) {
          Printf(" at s = %.0f m", r.worst_s) + (r.passed ? ")" : "; failed)");
 }
 
-// The largest sensitivities by size, one per line: "key  +0.123 s".
+// The largest finite sensitivities by size, one per line: "key  +0.123 s".
 std::string SensitivityLines(const std::vector<DesignSensitivity>& sensitivities) {
-  std::vector<DesignSensitivity> largest = sensitivities;
+  std::vector<DesignSensitivity> largest;
+  std::copy_if(sensitivities.begin(), sensitivities.end(), std::back_inserter(largest),
+               [](const DesignSensitivity& d) { return std::isfinite(d.per_percent); });
   const size_t shown = std::min<size_t>(largest.size(), kReportedSensitivities);
   std::partial_sort(largest.begin(), largest.begin() + shown, largest.end(),
                     [](const DesignSensitivity& a, const DesignSensitivity& b) {

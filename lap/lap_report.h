@@ -16,7 +16,8 @@ std::string FormatLapTime(double seconds);
 
 // Lap time, average speed [km/h], energy used [MJ] and % of the pack, top speed [km/h], the
 // re-simulation's lap-time and largest state difference [%], converged, and the
-// kReportedSensitivities largest design sensitivities (lap time per 1 % more of a bike value).
+// kReportedSensitivities largest finite design sensitivities (lap time per 1 % more of a bike
+// value).
 std::string LapReportText(const LapSolution& sol, const SolveSummary& summary, const LapFigures& f,
                           const ResimReport& resim, const std::vector<DesignSensitivity>& sensitivities);
 inline constexpr int kReportedSensitivities = 5;

@@ -87,7 +87,9 @@ TEST_F(LapReportFigures, TheLargestSensitivitiesFirstAndAllInJson) {
   std::vector<DesignSensitivity> all;
   for (int i = 0; i < kReportedSensitivities + 2; ++i)  // sizes 0, -0.1, 0.2, -0.3, ...
     all.push_back({"section.key" + std::to_string(i), 1.0, 0.0, (i % 2 ? -0.1 : 0.1) * i});
+  all.push_back({"section.nan", 1.0, NAN, NAN});  // not ranked, null in JSON
   const std::string text = LapReportText(sol, summary, f, resim, all);
+  EXPECT_EQ(text.find("section.nan"), std::string::npos) << text;
   const size_t largest = text.find("section.key6"), next = text.find("section.key5");
   ASSERT_NE(largest, std::string::npos) << text;
   EXPECT_LT(largest, next) << text;
@@ -98,6 +100,7 @@ TEST_F(LapReportFigures, TheLargestSensitivitiesFirstAndAllInJson) {
   const std::string json = LapReportJson(sol, summary, f, resim, all);
   EXPECT_NE(json.find("\"sensitivity_per_percent\": {\"section.key0\": 0, \"section.key1\": -0.1,"),
             std::string::npos) << json;
+  EXPECT_NE(json.find("\"section.nan\": null}}"), std::string::npos) << json;
 }
 
 }  // namespace

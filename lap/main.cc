@@ -259,17 +259,21 @@ void SetWindowChargePrice(const Vehicle& v, const RoadTrack& track, const std::v
   ttz::Log(ttz::LogKind::kInfo, o.str());
 }
 
-// The design sensitivities of a converged answer (elsewhere the costates are not the answer's
-// multipliers), logged with their time.
+// The design sensitivities of a converged answer of the indirect solver (elsewhere the costates
+// are not the answer's multipliers), logged with their time or why there are none.
 std::vector<DesignSensitivity> Sensitivities(const BikeParams& bike, const RoadTrack& track, const LapSolution& sol,
                                              const SolveSummary& summary, int threads) {
   if (!summary.converged || !HasSensitivities(sol)) return {};
   const auto start = std::chrono::steady_clock::now();
-  std::vector<DesignSensitivity> out = DesignSensitivities(bike, track, sol, threads);
+  std::string why_not;
+  std::vector<DesignSensitivity> out = DesignSensitivities(bike, track, sol, threads, &why_not);
   std::ostringstream o;
-  o << "design sensitivities of " << out.size() << " bike values by the adjoint in "
-    << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s";
-  ttz::Log(ttz::LogKind::kInfo, o.str());
+  if (out.empty())
+    o << "no design sensitivities: " << why_not;
+  else
+    o << "design sensitivities of " << out.size() << " bike values by the adjoint in "
+      << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s";
+  ttz::Log(out.empty() ? ttz::LogKind::kWarning : ttz::LogKind::kInfo, o.str());
   return out;
 }
 

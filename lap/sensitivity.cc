@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "lap/model/vehicle.h"
 #include "lap/qss.h"
@@ -14,12 +15,17 @@
 namespace ttz::lap {
 namespace {
 
-constexpr double kRelativeStep = 1e-6;  // of the value (absolute where it is 0)
-constexpr size_t kStartNodes = 3;       // of the mesh, for the start state (StartState)
+constexpr double kRelativeStep = 1e-6;   // of the value (absolute where it is 0)
+constexpr size_t kStartNodes = 3;        // of the mesh, for the start state (StartState)
+constexpr double kRebuiltResidual = 1e-6;  // largest |residual| of the rebuilt transcription
+constexpr double kCelsiusZero = 273.15;  // [K]
+// The rider's effort weights c_y, c_t, c_r (lap/model/cost.h): their dJ/dp is no lap time.
+constexpr const char* kEffortWeights[] = {"limits.yaw_acceleration_weight_s4_per_rad2",
+                                          "limits.torque_rate_weight_s3_per_n2_m2",
+                                          "limits.roll_rate_weight_s2_per_rad2"};
 
 // The bike's start state: the quasi-steady state at its initial speed, motor temperature and
-// charge (lap/qss.h), as the solvers' guesses start, on the first nodes of the mesh (the start's
-// acceleration is the first interval's).
+// charge on the centre line (sensitivity.h).
 StateVector<double> StartState(const Vehicle& v, const RoadTrack& road, const std::vector<double>& start_mesh) {
   return ComputeQss(v, road, start_mesh).x.front();
 }
@@ -32,13 +38,16 @@ double Lagrangian(const Transcription& tr, const Vehicle& v, const StateVector<d
     sum += tr.H(k) * EvaluateHamiltonian<double>(v, tr.sc, tr.road[k], tr.MidpointWeight(), tr.MidState(k),
                                                  tr.mids[k].u, tr.MidCostate(k))
                          .H;
-  for (int k = 1; tr.node_barriers && k < tr.NumNodes(); ++k) {
-    StateVector<double> xs;
-    std::copy(tr.W(k), tr.W(k) + kNumStates, xs.begin());
-    sum += NodeBarrierValue(v, tr.sc, tr.road_nodes[k], tr.NodeWeight(), tr.NodeLength(k), xs);
-  }
+  for (int k = 1; k < tr.NumNodes(); ++k)
+    sum += NodeBarrierValue(v, tr.sc, tr.road_nodes[k], tr.NodeWeight(), tr.NodeLength(k), tr.NodeState(k));
   for (int i = 0; i < kNumStates; ++i) sum += tr.W(0)[kNumStates + i] * x0[i] / tr.sc.state[i];
   return sum;
+}
+
+// What 1 % of the value `x` of `key` is (sensitivity.h, DesignSensitivity::per_percent).
+double OnePercent(const std::string& key, double x) {
+  const bool celsius = key.size() > 2 && key.compare(key.size() - 2, 2, "_c") == 0;
+  return 0.01 * (celsius ? x + kCelsiusZero : x);
 }
 
 // dJ/dp of the value `key` by a central difference of the Lagrangian.
@@ -53,25 +62,45 @@ DesignSensitivity Sensitivity(const BikeParams& bike, const Transcription& tr, c
     return Lagrangian(tr, v, StartState(v, road, start_mesh));
   };
   const double per_unit = (lagrangian(x + h) - lagrangian(x - h)) / (2.0 * h);
-  return {key, x, per_unit, per_unit * x / 100.0};
+  return {key, x, per_unit, per_unit * OnePercent(key, x)};
 }
 
 }  // namespace
 
+std::vector<std::string> SensitivityKeys() {
+  std::vector<std::string> keys = RealBikeKeys();
+  for (const char* weight : kEffortWeights) keys.erase(std::remove(keys.begin(), keys.end(), weight), keys.end());
+  return keys;
+}
+
 bool HasSensitivities(const LapSolution& sol) {
-  return sol.eps > 0.0 && sol.s.size() >= 2 && sol.lambda.size() == sol.s.size() &&
-         sol.x.size() == sol.s.size() && sol.u.size() == sol.s.size();
+  const size_t n = sol.s.size();
+  return sol.eps > 0.0 && n >= 2 && sol.x.size() == n && sol.lambda.size() == n && sol.u.size() == n &&
+         sol.u_interval.size() + 1 == n;
 }
 
 std::vector<DesignSensitivity> DesignSensitivities(const BikeParams& bike, const RoadTrack& road,
-                                                   const LapSolution& sol, int threads) {
-  if (!HasSensitivities(sol)) return {};
+                                                   const LapSolution& sol, int threads, std::string* why_not) {
+  if (!HasSensitivities(sol)) {
+    *why_not = "the lap has no barrier costates (eps = 0: an Ipopt lap)";
+    return {};
+  }
   const Vehicle v = MakeVehicle(bike);
   Transcription tr = MakeTranscription(v, road, sol.s, sol.x, sol.lambda, sol.u, threads);
   tr.weight = WeightFor(sol.eps);
-  tr.EvaluateMids(false);  // the node barriers' gradients (MidCostate) and the midpoints' u~*
-  const std::vector<double> start_mesh(sol.s.begin(), sol.s.begin() + std::min<size_t>(sol.s.size(), kStartNodes));
-  const std::vector<std::string> keys = RealBikeKeys();
+  for (size_t k = 0; k < tr.mids.size(); ++k)  // the Newtons for u~* start at the intervals' own
+    for (int i = 0; i < kNumControls; ++i) tr.mids[k].u_start[i] = sol.u_interval[k][i] / tr.sc.control[i];
+  double max_residual = 0.0, max_defect = 0.0;
+  ResidualLevels(&tr, &max_residual, &max_defect);  // also the node barriers' gradients and u~*
+  if (!(max_residual <= kRebuiltResidual)) {
+    std::ostringstream o;
+    o << "the lap is not the solution of its transcription rebuilt for this bike and road (max |residual| "
+      << max_residual << ")";
+    *why_not = o.str();
+    return {};
+  }
+  const std::vector<double> start_mesh(sol.s.begin(), sol.s.begin() + std::min(sol.s.size(), kStartNodes));
+  const std::vector<std::string> keys = SensitivityKeys();
   std::vector<DesignSensitivity> out(keys.size());
   ForEachInterval(static_cast<int>(keys.size()), threads, [&](int i) {
     out[i] = Sensitivity(bike, tr, road, start_mesh, keys[i]);

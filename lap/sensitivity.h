@@ -12,17 +12,24 @@
 // with H at interval k's midpoint with the multiplier of its defect (Transcription::MidCostate),
 // B_k the barrier of node k, and lambda~_0 = dJ/dx~_0 (the costates' discrete adjoint equations
 // make it the node-0 costate). States, costates and controls are held: they are optimal, so their
-// own change does not move J to first order. dH/dp and dB/dp are central differences of the value
-// (a step of 1e-6 of it), the model rebuilt by MakeVehicle each time, so that derived figures
-// follow (the total mass from a motor's or the pack's, the pack's voltage, resistance and energy
-// from a cell's). Of the start state, bike.yaml sets the speed, motor temperature and charge; the
-// other start states (the quasi-steady state at the start, lap/qss.h) and the mesh are held.
+// own change does not move J to first order. The scales stay the base bike's (the model is
+// evaluated in physical units: they only change variables). dH/dp and dB/dp are central
+// differences of the value (a step of 1e-6 of it), the model rebuilt by MakeVehicle each time,
+// so that derived figures follow (the total mass from a motor's or the pack's, the pack's
+// voltage, resistance and energy from a cell's).
 //
-// What it is: the slope of the lap's cost at the answer's eps (1e-4: the barriers' share of J is
-// ~1e-4 of it), i.e. the lap time a small change of one value buys, for a lap solved again on the
-// same mesh. Checked against laps solved again with the value changed (lap/sensitivity_test.cc).
-// Needs the indirect solver's costates and barrier weight: an Ipopt lap (eps 0, constraints as
-// multipliers, not barriers) has none.
+// The start state x_0 follows the value as the solvers' start does, as the quasi-steady state
+// at the bike's initial speed, motor temperature and charge (lap/qss.h); its change is taken from
+// the centre line's quasi-steady lap on the mesh's first kStartNodes nodes (the start's
+// acceleration is the first interval's; the racing line's offset, which `lap` starts on, does
+// not depend on the bike). The mesh is held.
+//
+// What it is: the slope of J, which is the lap time's but for the barriers' and the effort's
+// share of it (~1e-4 at eps 1e-4). Not for the effort weights themselves (bike.yaml's
+// limits.*_weight_*), whose dJ/dp is the effort's integral, not a lap time: they are left out.
+// Checked against laps solved again with the value changed (lap/sensitivity_test.cc). Needs the
+// indirect solver's costates and barrier weight: an Ipopt lap (eps 0, constraints as multipliers,
+// not barriers) has none.
 #pragma once
 
 #include <string>
@@ -38,16 +45,26 @@ struct DesignSensitivity {
   std::string key;    // bike.yaml path, e.g. "chassis.base_mass_kg" (its unit is in its name)
   double value;       // the value in the lap's bike [unit of the key]
   double per_unit;    // dJ/dp [s per unit of the key]
-  double per_percent; // per_unit * value / 100: the lap time 1 % more of the value costs [s]
+  // The lap time 1 % more of the value costs [s]: per_unit * value / 100, the value taken in
+  // kelvin for the temperatures in degC (keys ending "_c"), so that 1 % does not depend on where
+  // the scale's zero is. 0 for a value of 0; for a negative value (a downforce, C_l < 0) 1 % more
+  // is 1 % further from zero.
+  double per_percent;
 };
 
-// Whether `sol` carries what DesignSensitivities needs: costates at every node and a barrier
-// weight eps > 0 (the indirect solver's laps).
+// The bike.yaml values DesignSensitivities covers: RealBikeKeys but the rider's effort weights.
+std::vector<std::string> SensitivityKeys();
+
+// Whether `sol` carries what DesignSensitivities needs: costates at every node, the intervals'
+// controls and a barrier weight eps > 0 (the indirect solver's laps).
 bool HasSensitivities(const LapSolution& sol);
 
-// dJ/dp for every real bike.yaml value (RealBikeKeys, file order) of the lap `sol` of `bike` on
-// `road`; empty when !HasSensitivities(sol). `threads` evaluate the values in parallel.
+// dJ/dp for every value of SensitivityKeys (file order) of the lap `sol` of `bike` on `road`;
+// `threads` evaluate the values in parallel. Empty, with the reason in *why_not, when
+// !HasSensitivities(sol) or when the transcription rebuilt from `sol` is not its solution (max
+// |residual| over 1e-6, i.e. `sol` is not a converged lap of this bike and road with node
+// barriers and a free end).
 std::vector<DesignSensitivity> DesignSensitivities(const BikeParams& bike, const RoadTrack& road,
-                                                   const LapSolution& sol, int threads);
+                                                   const LapSolution& sol, int threads, std::string* why_not);
 
 }  // namespace ttz::lap

@@ -52,21 +52,46 @@ TEST(SensitivityTest, AgreesWithLapsSolvedAgain) {
   const BikeParams bike = TestBike();
   const LapSolution sol = Solve(bike, road, mesh);
   ASSERT_TRUE(HasSensitivities(sol));
-  const std::vector<DesignSensitivity> all = DesignSensitivities(bike, road, sol, 2);
-  ASSERT_EQ(all.size(), RealBikeKeys().size());
+  std::string why_not;
+  const std::vector<DesignSensitivity> all = DesignSensitivities(bike, road, sol, 2, &why_not);
+  ASSERT_EQ(all.size(), SensitivityKeys().size()) << why_not;
   for (const std::string key : {"chassis.base_mass_kg", "aero.drag_area_m2", "drive.gear_ratio",
                                 "initial.speed_m_per_s", "motor.current_max_a", "battery.cell_energy_j",
                                 "tyre.lateral_adherence", "limits.roll_rate_max_rad_per_s"}) {
     const auto it = std::find_if(all.begin(), all.end(), [&](const DesignSensitivity& d) { return d.key == key; });
     ASSERT_NE(it, all.end()) << key;
-    BikeParams same = bike;
-    EXPECT_EQ(it->value, RealBikeValue(same, key)) << key;
-    EXPECT_NEAR(it->per_percent, it->per_unit * it->value / 100.0, 1e-12 * std::abs(it->per_percent)) << key;
     constexpr double kStep = 0.01;
     const double up = Solve(TestBike(key, 1.0 + kStep), road, mesh).lap_time;
     const double down = Solve(TestBike(key, 1.0 - kStep), road, mesh).lap_time;
     const double again = (up - down) / (2.0 * kStep * 100.0);
     EXPECT_NEAR(it->per_percent, again, 0.05 * std::abs(again) + 1e-4) << key;
+  }
+  // The same figures from one thread as from two.
+  const std::vector<DesignSensitivity> one = DesignSensitivities(bike, road, sol, 1, &why_not);
+  ASSERT_EQ(one.size(), all.size());
+  for (size_t i = 0; i < all.size(); ++i) EXPECT_EQ(one[i].per_unit, all[i].per_unit) << all[i].key;
+  // A temperature's 1 % is of its value in kelvin (DesignSensitivity::per_percent).
+  const auto ambient = std::find_if(all.begin(), all.end(), [](const DesignSensitivity& d) {
+    return d.key == "environment.ambient_temperature_c";
+  });
+  ASSERT_NE(ambient, all.end());
+  EXPECT_DOUBLE_EQ(ambient->per_percent, ambient->per_unit * (ambient->value + 273.15) / 100.0);
+  // The lap of another bike is not this one's solution: no sensitivities, and why.
+  const std::vector<DesignSensitivity> other = DesignSensitivities(TestBike("chassis.base_mass_kg", 1.1), road, sol,
+                                                                   2, &why_not);
+  EXPECT_TRUE(other.empty());
+  EXPECT_NE(why_not.find("not the solution of its transcription"), std::string::npos) << why_not;
+}
+
+// The effort weights (c_y, c_t, c_r: lap/model/cost.h) are left out: their dJ/dp is the
+// effort's integral, no lap time.
+TEST(SensitivityTest, TheEffortWeightsAreLeftOut) {
+  const std::vector<std::string> keys = SensitivityKeys(), real = RealBikeKeys();
+  EXPECT_EQ(keys.size() + 3, real.size());
+  for (const std::string weight : {"limits.yaw_acceleration_weight_s4_per_rad2",
+                                   "limits.torque_rate_weight_s3_per_n2_m2", "limits.roll_rate_weight_s2_per_rad2"}) {
+    EXPECT_NE(std::find(real.begin(), real.end(), weight), real.end()) << weight;
+    EXPECT_EQ(std::find(keys.begin(), keys.end(), weight), keys.end()) << weight;
   }
 }
 
@@ -78,11 +103,14 @@ TEST(SensitivityTest, NoneWithoutTheBarriersCostates) {
   sol.x.assign(sol.s.size(), StateVector<double>{});
   sol.lambda = sol.x;
   sol.u.assign(sol.s.size(), ControlVector<double>{});
+  sol.u_interval.assign(sol.s.size() - 1, ControlVector<double>{});
   sol.eps = 1e-4;
   EXPECT_TRUE(HasSensitivities(sol));
   sol.eps = 0.0;
   EXPECT_FALSE(HasSensitivities(sol));
-  EXPECT_TRUE(DesignSensitivities(TestBike(), road, sol, 1).empty());
+  std::string why_not;
+  EXPECT_TRUE(DesignSensitivities(TestBike(), road, sol, 1, &why_not).empty());
+  EXPECT_NE(why_not.find("no barrier costates"), std::string::npos) << why_not;
 }
 
 }  // namespace

@@ -40,7 +40,8 @@ Rows:
                     the mesh is not uniform in time.
 What buys time: when the lap has design sensitivities (sensitivity/key and sensitivity/per_percent,
 lap/sensitivity.h: the indirect solver's laps), a second table lists the SENSITIVITY_ROWS largest
-by size, the lap time 1 % more of each bike value costs (negative: buys), with the value itself.
+by size, the lap time 1 % more of each bike value costs (negative: buys), with the value itself;
+values without a finite figure are named below it.
 The header names the lap file and its converged / resim_passed attributes; a lap that did not
 converge is flagged at the top. Constraints whose max_violation_<kind> exceeds the solver's
 1e-4 tolerance are listed there too.
@@ -116,21 +117,25 @@ def read_sensitivities(lap):
     keys = lap.strings("sensitivity/key")
     value = lap.data("sensitivity/value", len(keys))
     per_percent = lap.data("sensitivity/per_percent", len(keys))
-    if not np.all(np.isfinite(per_percent)):
-        raise ttz_h5.InputError(lap.path, "dataset 'sensitivity/per_percent' has non-finite values")
     return list(zip(keys, value, per_percent))
 
 
 def sensitivity_lines(sensitivities):
-    """The SENSITIVITY_ROWS largest sensitivities by size as a markdown section ([] without any)."""
+    """The SENSITIVITY_ROWS largest finite sensitivities by size as a markdown section, and the
+    values without a finite one named ([] without any)."""
     if not sensitivities:
         return []
-    largest = sorted(sensitivities, key=lambda row: -abs(row[2]))[:SENSITIVITY_ROWS]
+    finite = [row for row in sensitivities if math.isfinite(row[2])]
+    largest = sorted(finite, key=lambda row: -abs(row[2]))[:SENSITIVITY_ROWS]
     rows = [[f"`{key}`", f"{value:.6g}", f"{per_percent:+.3f} s"] for key, value, per_percent in largest]
-    return ["", "## What buys lap time (design sensitivities of this lap, lap.h5 sensitivity/*)", "",
-            "The lap time 1 % more of each bike value costs (negative: buys), by the adjoint of "
-            f"the solve (lap/sensitivity.h); the {len(largest)} largest of {len(sensitivities)}.", ""
-            ] + study_report.table(["bike value", "value", "lap time per 1 % more"], rows)
+    lines = ["", "## What buys lap time (design sensitivities of this lap, lap.h5 sensitivity/*)", "",
+             "The lap time 1 % more of each bike value costs (negative: buys), by the adjoint of "
+             f"the solve (lap/sensitivity.h); the {len(largest)} largest of {len(sensitivities)}.", ""
+             ] + study_report.table(["bike value", "value", "lap time per 1 % more"], rows)
+    missing = [key for key, _, per_percent in sensitivities if not math.isfinite(per_percent)]
+    if missing:
+        lines += ["", "Without a finite figure (left out): " + ", ".join(f"`{key}`" for key in missing)]
+    return lines
 
 
 def read_calibration(path):

@@ -12,7 +12,7 @@
 
 #include "common/artefact.h"
 #include "common/road_artefact.h"
-#include "lap/bike.h"
+#include "lap/sensitivity.h"
 #include "lap/model/constraints.h"
 #include "lap/solver/indirect.h"
 #include "lap/solver/ipopt_direct.h"
@@ -139,8 +139,9 @@ TEST_F(LapCli, AStraightRoadSolvesWritesLapH5AndWarmStartsTheNextSolve) {
   // Design sensitivities (lap/sensitivity.h): one row per real bike.yaml key; on a level straight
   // from a standing start more mass costs time, a larger motor-current limit buys some.
   const std::vector<double> per_percent = r.ReadVector("sensitivity/per_percent", "s");
-  const std::vector<std::string> keys = ttz::lap::RealBikeKeys();
+  const std::vector<std::string> keys = ttz::lap::SensitivityKeys();
   ASSERT_EQ(per_percent.size(), keys.size());
+  EXPECT_TRUE(r.HasDataset("sensitivity/key"));
   const auto of = [&](const std::string& key) {
     return per_percent[std::find(keys.begin(), keys.end(), key) - keys.begin()];
   };

@@ -18,6 +18,12 @@ StateVector<double> Transcription::MidState(int k) const {
   return xs;
 }
 
+StateVector<double> Transcription::NodeState(int k) const {
+  StateVector<double> xs;
+  std::copy(W(k), W(k) + kNumStates, xs.begin());
+  return xs;
+}
+
 StateVector<double> Transcription::MidCostate(int k) const {
   StateVector<double> mu;
   for (int i = 0; i < kNumStates; ++i) {
@@ -33,9 +39,7 @@ void Transcription::EvaluateMids(bool jacobians) {
   const BarrierWeight mid_weight = MidpointWeight(), node_weight = NodeWeight();
   if (node_barriers)
     ForEachInterval(n, threads, [&](int k) {
-      StateVector<double> xs;
-      std::copy(W(k + 1), W(k + 1) + kNumStates, xs.begin());
-      EvaluateNodeBarrier(*v, sc, road_nodes[k + 1], node_weight, NodeLength(k + 1), xs, jacobians,
+      EvaluateNodeBarrier(*v, sc, road_nodes[k + 1], node_weight, NodeLength(k + 1), NodeState(k + 1), jacobians,
                           &nodes[k + 1]);
       return true;  // validity is read from the nodes below
     });

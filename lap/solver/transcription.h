@@ -82,6 +82,7 @@ struct Transcription {
   // (mu~_k = (lambda~_k + lambda~_{k+1}) / 2 + (b_k dB_{k+1}/dx~ - a_k dB_k/dx~) / 2): the
   // multiplier of the interval's state defect in the discrete problem's Lagrangian.
   StateVector<double> MidState(int k) const;
+  StateVector<double> NodeState(int k) const;  // x~_k
   StateVector<double> MidCostate(int k) const;
   // Evaluates the node barriers, then every midpoint at (MidState, MidCostate): u*, F, G, and
   // their derivatives if asked.

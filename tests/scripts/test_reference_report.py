@@ -163,9 +163,13 @@ class ReferenceReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase)
         self.assertNotIn("`section.key1`", section)
         self.assertNotIn("`section.key0`", section)
 
-    def test_non_finite_sensitivity(self):
+    def test_a_non_finite_sensitivity_is_named_not_ranked(self):
         lap = self.add_sensitivities(write_reference_lap(self.path("lap.h5")), [0.1, np.nan])
-        self.refused(lap, "sensitivity/per_percent", "non-finite")
+        text, _ = self.run_report(lap)
+        section = text.split("## What buys lap time")[1]
+        self.assertIn("the 1 largest of 2", section)
+        self.assertIn("`section.key0` | 1 | +0.100 s", section)
+        self.assertIn("Without a finite figure (left out): `section.key1`", section)
 
     def refused(self, lap, *words, extra=()):
         result = fx.run("reference_report.py", lap, "-o", self.report, *extra)
