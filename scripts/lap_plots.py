@@ -12,6 +12,9 @@ Writes into OUTDIR (created if missing), each file atomically:
   yaw_roll.png       roll angle phi [deg] and yaw rate Omega_z [deg/s]
   resim.png          (when the lap has resim/*) each state's re-simulation difference, scaled
                      [1, log], with the check's 0.1 %: where the mesh does not resolve the dynamics
+  sensitivity.png    (when the lap has sensitivity/*: the indirect solver's) what buys lap time:
+                     the SENSITIVITY_BARS largest design sensitivities, the lap time 1 % more of
+                     each bike value costs [s] (negative: buys), largest at the top
   map.png            (--road) the bike's path coloured by speed [km/h] on the road's local
                      east/north frame [km]; path = centre line + n along the model's right normal
   elevation.png      (--road) centre-line elevation z [m] and slope tan(sigma) [%] vs distance
@@ -37,6 +40,7 @@ RESIM_PANELS = (("path and power train", ("n", "alpha", "V", "T", "e", "Omega_z"
                 ("tyre, roll and heave", ("beta", "z", "phi", "omega_w", "omega_phi", "z_dot")))
 RESIM_TOLERANCE = 1e-3  # the check's 0.1 % (lap/resimulate.h)
 RESIM_FLOOR = 1e-12     # plotted in place of 0 (the first node) on the log axis
+SENSITIVITY_BARS = 15
 ROAD_CHANNELS = ("s", "x", "y", "z", "theta", "sigma")
 ROAD_LENGTH_TOLERANCE_M = 1.0
 KMH = 3.6  # (km/h) per (m/s)
@@ -52,6 +56,7 @@ def read_lap(path):
     resim = [f"resim/{name}" for _, names in RESIM_PANELS for name in names]
     if all(lap.has(name) for name in resim):  # added within version 3 (docs/lap_h5.md)
         channels.update({name: lap.data(name, s.size) for name in resim})
+    channels["sensitivities"] = ttz_h5.sensitivities(lap)
     attrs = {name: lap.attr(name) for name in
              ("lap_time", "energy_used", "energy_fraction", "top_speed", "road_length")}
     attrs.update(converged=lap.attr("converged", int), message=lap.attr("message", str))
@@ -164,6 +169,23 @@ def resim_figure(plt, lap):
     return figure
 
 
+def sensitivity_figure(plt, lap):
+    """The largest design sensitivities as horizontal bars [s per 1 % more], largest at the top:
+    red where more of the value costs time, green where it buys time."""
+    largest, _ = ttz_h5.largest_sensitivities(lap["sensitivities"], SENSITIVITY_BARS)
+    keys = [key for key, _, _ in largest][::-1]
+    seconds = np.array([per_percent for _, _, per_percent in largest][::-1])
+    figure, axis = plt.subplots(figsize=(9, 0.35 * len(keys) + 1.5))
+    axis.barh(keys, seconds, color=np.where(seconds > 0, "tab:red", "tab:green"))
+    axis.axvline(0.0, color="k", lw=0.8)
+    axis.set_xlabel("lap time per 1 % more of the value [s]")
+    axis.tick_params(axis="y", labelsize=7)
+    axis.grid(True, axis="x", alpha=0.3)
+    axis.set_title("what buys lap time (design sensitivities by the adjoint, lap/sensitivity.h)")
+    figure.tight_layout()
+    return figure
+
+
 def bike_path(lap, road):
     """East/north [m] of the bike: the centre line interpolated at the lap's s, moved by n
     (right positive) along the right normal (sin theta, -cos theta)."""
@@ -213,6 +235,8 @@ def figures(plt, lap, road):
     }
     if "resim/n" in lap:
         builders["resim.png"] = lambda: resim_figure(plt, lap)
+    if ttz_h5.largest_sensitivities(lap["sensitivities"], 1)[0]:
+        builders["sensitivity.png"] = lambda: sensitivity_figure(plt, lap)
     if road is not None:
         builders["map.png"] = lambda: map_figure(plt, lap, road)
         builders["elevation.png"] = lambda: elevation_figure(plt, road)

@@ -104,20 +104,10 @@ def read_lap(path):
         attrs["violations"] = {name[len("max_violation_"):]: lap.attr(name)
                                for name in sorted(lap.h5.attrs)
                                if name.startswith("max_violation_")}
-        attrs["sensitivities"] = read_sensitivities(lap)
+        attrs["sensitivities"] = ttz_h5.sensitivities(lap)
         return channels, attrs
     finally:
         lap.h5.close()
-
-
-def read_sensitivities(lap):
-    """[(key, value, seconds per 1 % more)] of sensitivity/*, or [] for a lap without them."""
-    if not lap.has("sensitivity/key"):
-        return []
-    keys = lap.strings("sensitivity/key")
-    value = lap.data("sensitivity/value", len(keys))
-    per_percent = lap.data("sensitivity/per_percent", len(keys))
-    return list(zip(keys, value, per_percent))
 
 
 def sensitivity_lines(sensitivities):
@@ -125,14 +115,12 @@ def sensitivity_lines(sensitivities):
     values without a finite one named ([] without any)."""
     if not sensitivities:
         return []
-    finite = [row for row in sensitivities if math.isfinite(row[2])]
-    largest = sorted(finite, key=lambda row: -abs(row[2]))[:SENSITIVITY_ROWS]
+    largest, missing = ttz_h5.largest_sensitivities(sensitivities, SENSITIVITY_ROWS)
     rows = [[f"`{key}`", f"{value:.6g}", f"{per_percent:+.3f} s"] for key, value, per_percent in largest]
     lines = ["", "## What buys lap time (design sensitivities of this lap, lap.h5 sensitivity/*)", "",
              "The lap time 1 % more of each bike value costs (negative: buys), by the adjoint of "
              f"the solve (lap/sensitivity.h); the {len(largest)} largest of {len(sensitivities)}.", ""
              ] + study_report.table(["bike value", "value", "lap time per 1 % more"], rows)
-    missing = [key for key, _, per_percent in sensitivities if not math.isfinite(per_percent)]
     if missing:
         lines += ["", "Without a finite figure (left out): " + ", ".join(f"`{key}`" for key in missing)]
     return lines

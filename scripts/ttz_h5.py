@@ -130,6 +130,24 @@ def open_road(path):
     return Artefact(path, ROAD_SCHEMA, ROAD_VERSIONS)
 
 
+def sensitivities(lap):
+    """[(key, value, seconds per 1 % more)] of the lap's design sensitivities (sensitivity/*,
+    docs/lap_h5.md; version 4, the indirect solver's converged laps), [] for a lap without them."""
+    if not lap.has("sensitivity/key"):
+        return []
+    keys = lap.strings("sensitivity/key")
+    return list(zip(keys, lap.data("sensitivity/value", len(keys)),
+                    lap.data("sensitivity/per_percent", len(keys))))
+
+
+def largest_sensitivities(rows, count):
+    """The `count` rows of sensitivities() with the largest finite figure by size, largest first,
+    and the keys of the rows without a finite one."""
+    finite = [row for row in rows if math.isfinite(row[2])]
+    missing = [key for key, _, per_percent in rows if not math.isfinite(per_percent)]
+    return sorted(finite, key=lambda row: -abs(row[2]))[:count], missing
+
+
 def omega_z(lap, length=None):
     """Yaw rate Omega_z [rad/s], a control in version 1 and a state after the move."""
     return lap.first_of(("control/Omega_z", "state/Omega_z"), length)

@@ -27,6 +27,7 @@ class LapPlotsTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
         self.assert_ok(fx.run("lap_plots.py", lap, "--road", road, "-o", self.out))
         self.assert_files(PNGS_LAP + PNGS_ROAD)
         self.assertFalse(os.path.exists(os.path.join(self.out, "resim.png")))  # no resim/* in the lap
+        self.assertFalse(os.path.exists(os.path.join(self.out, "sensitivity.png")))  # nor sensitivity/*
         with open(os.path.join(self.out, "summary.md")) as handle:
             summary = handle.read()
         self.assertIn("1:40.0", summary)       # lap_time 100 s
@@ -53,6 +54,16 @@ class LapPlotsTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
         line = self.assert_refused(fx.run("lap_plots.py", *args), *words)
         self.assertFalse(os.path.exists(self.out) and os.listdir(self.out), "output written")
         return line
+
+    def test_what_buys_lap_time_when_the_lap_has_sensitivities(self):
+        lap = fx.add_sensitivities(fx.write_lap(self.path("lap.h5"), version=4), [0.5, -1.2, float("nan"), 0.0])
+        self.assert_ok(fx.run("lap_plots.py", lap, "-o", self.out))
+        self.assert_files(PNGS_LAP + ("sensitivity.png", "summary.md"))
+
+    def test_no_sensitivity_plot_without_a_finite_figure(self):
+        lap = fx.add_sensitivities(fx.write_lap(self.path("lap.h5"), version=4), [float("nan")])
+        self.assert_ok(fx.run("lap_plots.py", lap, "-o", self.out))
+        self.assertFalse(os.path.exists(os.path.join(self.out, "sensitivity.png")))
 
     def test_missing_file(self):
         self.refused(self.path("absent.h5"), "absent.h5", "no such file")

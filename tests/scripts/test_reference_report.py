@@ -144,19 +144,11 @@ class ReferenceReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase)
         self.assertIn("residual 3e-2", top)
         self.assertIn("- resim_passed: 0 (failed: z_dot differs)", text)
 
-    def add_sensitivities(self, lap, per_percent):
-        """sensitivity/* of keys key0, key1, ... with values 1, 2, ... and these seconds per %."""
-        with h5py.File(lap, "a") as h5:
-            h5.create_dataset("sensitivity/key", data=[f"section.key{i}" for i in range(len(per_percent))])
-            h5.create_dataset("sensitivity/value", data=np.arange(1.0, len(per_percent) + 1))
-            h5.create_dataset("sensitivity/per_percent", data=np.asarray(per_percent, dtype=float))
-        return lap
-
     def test_the_largest_sensitivities_by_size(self):
         text, _ = self.run_report(write_reference_lap(self.path("plain.h5")))
         self.assertNotIn("What buys lap time", text)  # a lap without sensitivity/*
         sizes = [0.001 * (i if i % 2 else -i) for i in range(12)]  # key11 the largest, key0 and key1 the smallest
-        text, _ = self.run_report(self.add_sensitivities(write_reference_lap(self.path("lap.h5")), sizes))
+        text, _ = self.run_report(fx.add_sensitivities(write_reference_lap(self.path("lap.h5")), sizes))
         section = text.split("## What buys lap time")[1]
         self.assertIn("the 10 largest of 12", section)
         self.assertLess(section.index("`section.key11` | 12 | +0.011 s"), section.index("`section.key10` | 11 | -0.010 s"))
@@ -164,7 +156,7 @@ class ReferenceReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase)
         self.assertNotIn("`section.key0`", section)
 
     def test_a_non_finite_sensitivity_is_named_not_ranked(self):
-        lap = self.add_sensitivities(write_reference_lap(self.path("lap.h5")), [0.1, np.nan])
+        lap = fx.add_sensitivities(write_reference_lap(self.path("lap.h5")), [0.1, np.nan])
         text, _ = self.run_report(lap)
         section = text.split("## What buys lap time")[1]
         self.assertIn("the 1 largest of 2", section)

@@ -65,6 +65,16 @@ def write_lap(path, omega_group="control", schema="ttz.lap", version=1, drop=(),
     return path
 
 
+def add_sensitivities(path, per_percent):
+    """Adds sensitivity/* to the lap.h5 at `path`: keys section.key0, section.key1, ... with values
+    1, 2, ... and these seconds per 1 % more."""
+    with h5py.File(path, "a") as h5:
+        h5.create_dataset("sensitivity/key", data=[f"section.key{i}" for i in range(len(per_percent))])
+        h5.create_dataset("sensitivity/value", data=np.arange(1.0, len(per_percent) + 1))
+        h5.create_dataset("sensitivity/per_percent", data=np.asarray(per_percent, dtype=float))
+    return path
+
+
 def write_road(path, length=LAP_LENGTH_M):
     """A straight-then-curving road of `length` [m], rising 1 % (x east, y north, z up)."""
     s = np.linspace(0.0, length, 201)
