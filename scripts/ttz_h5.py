@@ -17,7 +17,7 @@ import numpy as np
 LAP_SCHEMA = "ttz.lap"
 # Version 1 had Omega_z in control/; version 2 has it in state/ (read by omega_z() below); version 3
 # (docs/lap_h5.md) adds control_interval/, which the scripts do not read; version 4 sensitivity/, which
-# reference_report.py reads where it is. Any other version is refused.
+# reference_report.py and lap_plots.py read where it is (sensitivities() below). Any other version is refused.
 LAP_VERSIONS = (1, 2, 3, 4)
 ROAD_SCHEMA = "ttz.road"
 ROAD_VERSIONS = (1,)
