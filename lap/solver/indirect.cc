@@ -102,10 +102,12 @@ bool TraceCurve(const IndirectOptions& options, Transcription* tr,
       step.lap_time = tr->LapTime();
       o << "converged in " << step.iterations << " iterations, " << step.seconds << " s, lap "
         << step.lap_time << " s, max residual " << point.max_residual;
-      if (!point.last) o << ", d log eps / ds " << point.slope;
+      if (!point.last)
+        o << ", d log eps / ds " << point.slope << ", step " << point.length << ", turn "
+          << point.turn << " rad";
     } else {
       o << "FAILED in " << step.iterations << " iterations, " << step.seconds
-        << " s, max residual " << point.max_residual;
+        << " s, max residual " << point.max_residual << ", step " << point.length;
     }
     Log(LogKind::kInfo, o.str());
     steps->push_back(step);
