@@ -3,6 +3,7 @@
 
 #include "common/csv.h"
 #include "common/error.h"
+#include "common/log.h"
 #include "road_fit/input_forms.h"
 
 namespace ttz::road {
@@ -15,6 +16,7 @@ const std::vector<std::string> kElevation = {"elevation", "elev", "elev_m", "alt
 const std::vector<std::string> kX = {"x", "x_m"};
 const std::vector<std::string> kY = {"y", "y_m"};
 const std::vector<std::string> kWidth = {"width", "width_m", "w"};
+const std::vector<std::string> kBanking = {"banking", "banking_rad", "banking_deg", "bank", "bank_rad", "bank_deg"};
 
 struct Columns {
   int u = -1, v = -1, z = -1;
@@ -101,10 +103,20 @@ RawInput CentreLine(const CsvTable& t) {
   return in;
 }
 
+// The ribbon has no banking (paper eq. 4-8: xi = 0, road_fit/ribbon.h): a banking column, which
+// the other extra columns are not, changes the road the file describes, so its user is told.
+void WarnOfBanking(const CsvTable& t) {
+  const int bank = t.FindColumn(kBanking);
+  if (bank >= 0)
+    Log(LogKind::kWarning, t.file + ": column '" + t.header[bank] +
+                               "' is ignored: the ribbon has no banking (paper eq. 4-8), so the road is fitted level across");
+}
+
 }  // namespace
 
 RawInput ReadCsvForms(const std::string& path) {
   const CsvTable t = ReadCsv(path);
+  WarnOfBanking(t);
   const int side = t.FindColumn({"side"});
   if (side >= 0) return LongForm(t, side);
   if (auto pairs = BorderPairs(t)) return *pairs;

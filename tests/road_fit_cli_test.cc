@@ -140,6 +140,29 @@ TEST_F(RoadFitCli, DuplicateConsecutivePointsAreToleratedWithAWarning) {
   EXPECT_TRUE(fs::exists(Output()));
 }
 
+// A banked centre line in local metres (as ../shared/data/tracks/las-vegas-centreline-banking.csv):
+// fitted, level across, with a warning that the banking is not.
+TEST_F(RoadFitCli, ABankingColumnIsIgnoredWithAWarning) {
+  const auto rows = [](const std::string& banking) {
+    std::ostringstream text;
+    for (int i = 0; i < 40; ++i) {
+      const double theta = 10.0 * i / 300.0;
+      text << 300.0 * std::sin(theta) << "," << 300.0 * (1 - std::cos(theta)) << ",6,6" << banking << "\n";
+    }
+    return text.str();
+  };
+  const auto f = File("banked.csv", "x_m,y_m,w_tr_right_m,w_tr_left_m,banking_rad\n" + rows(",-0.15"));
+  const CliRun run = RoadFit(f);
+  EXPECT_EQ(run.exit_code, 0) << run.stderr_text;
+  EXPECT_NE(run.stderr_text.find(f + ": column 'banking_rad' is ignored: the ribbon has no banking"),
+            std::string::npos)
+      << run.stderr_text;
+  EXPECT_TRUE(fs::exists(Output()));
+  const CliRun level = RoadFit(File("level.csv", "x_m,y_m,w_tr_right_m,w_tr_left_m\n" + rows("")));
+  EXPECT_EQ(level.exit_code, 0) << level.stderr_text;
+  EXPECT_EQ(level.stderr_text.find("banking"), std::string::npos) << level.stderr_text;
+}
+
 TEST_F(RoadFitCli, AFarOutlierIsAnErrorOrAbsorbedWithRobust) {
   std::string rows = BorderRows(40);
   // Line 22 (the 21st left point) moved 10 km north.
