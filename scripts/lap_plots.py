@@ -63,11 +63,12 @@ def read_lap(path):
     return channels, attrs
 
 
-def read_road(path, lap_road_length):
-    """The road's centre line by dataset name (m, rad), checked to be the lap's road."""
+def read_road(path, lap_road_length, names=ROAD_CHANNELS):
+    """The road's datasets `names` (of its centre line: m, rad, 1/m) by name, checked to be the
+    lap's road."""
     road = ttz_h5.open_road(path)
     s = road.data("s")
-    channels = {name: road.data(name, s.size) for name in ROAD_CHANNELS}
+    channels = {name: road.data(name, s.size) for name in names}
     length = road.attr("length_m")
     if abs(length - lap_road_length) > ROAD_LENGTH_TOLERANCE_M:
         raise ttz_h5.InputError(path, f"road length {length:.1f} m is not the lap's road_length "

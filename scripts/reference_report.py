@@ -79,11 +79,6 @@ PAPER["energy_mj"] = PAPER["usage_pct"] / 100.0 * PAPER["pack_mj"]   # 36.72 MJ
 
 # --- reading ---------------------------------------------------------------------------------
 
-def optional_attr(lap, name, kind=float, default=None):
-    """An attribute that older or partial lap.h5 files may lack."""
-    return lap.attr(name, kind) if name in lap.h5.attrs else default
-
-
 def read_lap(path):
     """({dataset: values}, {attribute: value}) of the lap, every channel checked finite."""
     lap = ttz_h5.open_lap(path)
@@ -96,11 +91,11 @@ def read_lap(path):
         attrs = {name: lap.attr(name) for name in
                  ("lap_time", "energy_used", "energy_fraction", "road_length")}
         attrs["converged"] = lap.attr("converged", int)
-        attrs["message"] = optional_attr(lap, "message", str, "")
-        attrs["resim_passed"] = optional_attr(lap, "resim_passed", int)
-        attrs["resim_message"] = optional_attr(lap, "resim_message", str, "")
-        attrs["average_speed"] = optional_attr(lap, "average_speed")
-        attrs["bike_yaml"] = optional_attr(lap, "bike_yaml", str)
+        attrs["message"] = lap.optional_attr("message", str, "")
+        attrs["resim_passed"] = lap.optional_attr("resim_passed", int)
+        attrs["resim_message"] = lap.optional_attr("resim_message", str, "")
+        attrs["average_speed"] = lap.optional_attr("average_speed")
+        attrs["bike_yaml"] = lap.optional_attr("bike_yaml", str)
         attrs["violations"] = {name[len("max_violation_"):]: lap.attr(name)
                                for name in sorted(lap.h5.attrs)
                                if name.startswith("max_violation_")}

@@ -119,6 +119,10 @@ class Artefact:
         value = self.h5.attrs[name]
         return _text(value) if kind is str else kind(np.asarray(value).reshape(-1)[0])
 
+    def optional_attr(self, name, kind=float, default=None):
+        """attr(), or `default` for an attribute that older or partial files may lack."""
+        return self.attr(name, kind) if name in self.h5.attrs else default
+
 
 def open_lap(path):
     """lap.h5 (schema ttz.lap)."""

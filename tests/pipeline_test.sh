@@ -1,7 +1,7 @@
 #!/bin/sh
 # The TT Zero pipeline (pipelines/Makefile) on the first 3 km of the Snaefell course, so that CI
 # exercises it end to end: course -> road.h5 -> reference lap -> plots with the pipelines' own
-# solver (LAP_FLAGS: the indirect solver), then two-point gear and battery studies by Ipopt (the
+# solver (LAP_FLAGS: the indirect solver), a lap of another circuit (tracks), then two-point gear and battery studies by Ipopt (the
 # second battery point warm-started from the first), the report of the studies so far, and the
 # retries of an Ipopt solve and of an indirect one (by Ipopt).
 # Usage: pipeline_test.sh BUILD_DIR SHARED_DATA
@@ -23,6 +23,15 @@ done
 grep -q "^converged      yes" "$d/reference/lap.txt" || fail "the reference lap did not converge: $(cat "$d/reference/lap.txt")"
 /usr/bin/python3 -c 'import sys, h5py; s = h5py.File(sys.argv[1]).attrs["solver"]; sys.exit((s.decode() if isinstance(s, bytes) else s) != "indirect")' \
   "$d/reference/lap.h5" || fail "the reference lap is not the indirect solver's"
+
+# Another circuit (the tracks target): fitted by road_fit, lapped by the piece's bike (no
+# calibration), plotted, and a row of tracks/report.md.
+run_make tracks TRACKS=Nuerburgring-centreline-widths > /dev/null 2> "$out/tracks.log" || fail "tracks: $(cat "$out/tracks.log")"
+t=$d/tracks/Nuerburgring-centreline-widths
+for f in road.h5 lap.h5 plots/map.png plots/summary.md; do [ -s "$t/$f" ] || fail "$t/$f missing"; done
+grep -q "^converged      yes" "$t/lap.txt" || fail "the lap of the Nuerburgring did not converge: $(cat "$t/lap.txt")"
+grep -q "^| Nuerburgring-centreline-widths | 5.14 | 0 | 16.8 | [0-9]:[0-9][0-9].[0-9] | .* | yes | " "$d/tracks/report.md" ||
+  fail "tracks/report.md: $(cat "$d/tracks/report.md")"
 
 # Dry runs (nothing solved): on the whole course the calibration's lap at the fitted value is the
 # reference lap unless the calibration solves with other flags.

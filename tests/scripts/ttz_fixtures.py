@@ -76,11 +76,12 @@ def add_sensitivities(path, per_percent):
 
 
 def write_road(path, length=LAP_LENGTH_M):
-    """A straight-then-curving road of `length` [m], rising 1 % (x east, y north, z up)."""
+    """A road of `length` [m] curving left on a 500 m radius, rising 1 % (x east, y north, z up)."""
     s = np.linspace(0.0, length, 201)
     theta = s / 500.0
     channels = {"s": (s, "m"), "x": (500 * np.sin(theta), "m"), "y": (500 * (1 - np.cos(theta)), "m"),
-                "z": (0.01 * s, "m"), "theta": (theta, "rad"), "sigma": (np.arcsin(0.01) * np.ones_like(s), "rad")}
+                "z": (0.01 * s, "m"), "theta": (theta, "rad"), "sigma": (np.arcsin(0.01) * np.ones_like(s), "rad"),
+                "kappa": (np.full_like(s, 1 / 500.0), "1/m")}
     with h5py.File(path, "w") as h5:
         for name, (values, units) in channels.items():
             _dataset(h5, name, values, units)

@@ -1,0 +1,105 @@
+#!/usr/bin/python3
+"""One bike's laps of several circuits side by side (the pipelines' `tracks` target,
+docs/pipelines.md "Other circuits"): a markdown table with a row per lap.h5 (docs/lap_h5.md),
+the circuit named after the lap's folder, its road read from road.h5 in the same folder
+(docs/road_h5.md).
+
+usage: tracks_report.py LAP.h5 [LAP.h5 ...] -o report.md
+
+Columns:
+  circuit           the name of the lap's folder
+  length            road length_m [km]
+  elevation range   max - min of the road's z [m]
+  tightest radius   1 / max |kappa| of the centre line [m]
+  lap time          m:ss.s (lap_time)
+  average speed     road length / lap time [km/h]
+  top speed         top_speed [km/h]
+  energy used       energy_used [MJ] and energy_fraction of the pack [%]
+  converged         yes, or no with the solver's message
+  re-simulation     the lap time's difference (resim_lap_time_relative) [%], then "passed" or the
+                    state that differs most with its difference (resim_worst_state,
+                    resim_max_state_difference) [% of the state's scale]
+
+Writes report.md atomically (its folder created if missing) and prints it on stdout. Bad input
+(a missing file, a file that is not a lap.h5, no road.h5 beside a lap or one of another length, a
+missing dataset or attribute) is one line on stderr, exit status 1, and nothing is written.
+"""
+import os
+
+import numpy as np
+
+import lap_plots
+import ttz_h5
+
+KMH = 3.6  # (km/h) per (m/s)
+HEADER = ("circuit", "length [km]", "elevation range [m]", "tightest radius [m]", "lap time",
+          "average speed [km/h]", "top speed [km/h]", "energy used [MJ]", "converged",
+          "re-simulation")
+
+
+def read_circuit(lap_path):
+    """{figure: value} of one lap and the road.h5 beside it."""
+    lap = ttz_h5.open_lap(lap_path)
+    try:
+        row = {name: lap.attr(name) for name in
+               ("lap_time", "energy_used", "energy_fraction", "top_speed", "road_length")}
+        row.update(converged=lap.attr("converged", int), message=lap.attr("message", str),
+                   resim_passed=lap.optional_attr("resim_passed", int),
+                   resim_time=lap.optional_attr("resim_lap_time_relative"),
+                   resim_state=lap.optional_attr("resim_max_state_difference"),
+                   resim_worst=lap.optional_attr("resim_worst_state", str, "a state"))
+    finally:
+        lap.h5.close()
+    folder = os.path.dirname(os.path.abspath(lap_path))
+    road = lap_plots.read_road(os.path.join(folder, "road.h5"), row["road_length"], ("s", "z", "kappa"))
+    row["kappa_max"] = float(np.max(np.abs(road["kappa"])))
+    row.update(name=os.path.basename(folder), z_range=float(np.ptp(road["z"])))
+    return row
+
+
+def resim_text(row):
+    """The re-simulation column: lap time difference, then passed or the worst state."""
+    if row["resim_passed"] is None:
+        return "not run"
+    text = f"lap time {100 * row['resim_time']:.4f} %, "
+    if row["resim_passed"]:
+        return text + "passed"
+    return text + f"{row['resim_worst']} {100 * row['resim_state']:.1f} % (failed)"
+
+
+def table_row(row):
+    """The markdown cells of one circuit."""
+    radius = 1.0 / row["kappa_max"] if row["kappa_max"] > 0 else float("inf")
+    return [row["name"], f"{row['road_length'] / 1e3:.2f}", f"{row['z_range']:.0f}",
+            f"{radius:.1f}", lap_plots.format_lap_time(row["lap_time"]),
+            f"{KMH * row['road_length'] / row['lap_time']:.1f}", f"{KMH * row['top_speed']:.1f}",
+            f"{row['energy_used'] / 1e6:.2f} ({100 * row['energy_fraction']:.1f} %)",
+            "yes" if row["converged"] else "no: " + row["message"], resim_text(row)]
+
+
+def report_text(rows):
+    """report.md: a title, the table, and how to read it."""
+    lines = ["# One bike round several circuits", "",
+             "| " + " | ".join(HEADER) + " |", "|" + "---|" * len(HEADER)]
+    lines += ["| " + " | ".join(table_row(row)) + " |" for row in rows]
+    lines += ["", "Each lap starts at the bike's initial speed (bike.yaml `initial`), as the TT's "
+              "standing start does: not a flying lap. Roads as fitted by road_fit, level across "
+              "(the ribbon has no banking). docs/pipelines.md \"Other circuits\".", ""]
+    return "\n".join(lines)
+
+
+def main():
+    """Reads every lap and road, then writes the report."""
+    parser = ttz_h5.argument_parser(__doc__)
+    parser.add_argument("laps", nargs="+", help="lap.h5 files, each with its road.h5 beside it")
+    parser.add_argument("-o", "--output", required=True, help="report.md to write")
+    args = parser.parse_args()
+    text = report_text([read_circuit(path) for path in args.laps])
+    folder = os.path.dirname(os.path.abspath(args.output))
+    os.makedirs(folder, exist_ok=True)
+    ttz_h5.write_text(args.output, text)
+    print(text)
+
+
+if __name__ == "__main__":
+    ttz_h5.run_cli(main)
