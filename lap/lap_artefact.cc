@@ -169,6 +169,7 @@ void WriteAttributes(ArtefactWriter& w, const LapSolution& sol, const SolveSumma
   w.WriteBoolAttribute("mesh_from_init", p.mesh_from_init);
   w.WriteAttribute("guess", p.guess);
   w.WriteAttribute("guess_lap_time", p.guess_lap_time);
+  w.WriteAttribute("start", p.start);
   w.WriteAttribute("tool_version", TTZ_VERSION);
 }
 

@@ -46,6 +46,7 @@ struct LapProvenance {
   bool mesh_from_init = false;  // the mesh is the --init file's (lap/main.cc, UseInitMesh)
   std::string guess;            // where the solve started: "racing-line", "centre-line" (--guess) or "init"
   double guess_lap_time = 0.0;  // the guess's lap time [s] (the QSS lap's on its line; 0 with --init)
+  std::string start = "standing";  // "standing" (bike.yaml's initial speed) or "flying" (--start)
   LapSolverOptions solver_options;
 };
 

@@ -42,7 +42,9 @@ constexpr int kLongRoadMaxIterations = 600;
 constexpr double kLongRoadRollPrice = 0.1;  // [s^2/rad^2]
 
 struct Arguments {
-  std::string road, bike, output, init, solver = "indirect", guess;  // guess "": the solver's default (QssStart)
+  std::string road, bike, output, init, solver = "indirect";
+  std::string guess;  // "": the solver's default (QssStart)
+  std::string start = "standing";  // or "flying" (SetFlyingStart)
   std::vector<std::string> overrides;
   MeshOptions mesh;
   int max_iterations = 0;  // 0: the solver's default
@@ -77,6 +79,12 @@ void DefineOptions(CLI::App& app, Arguments& a) {
                  "path, lap/racing_line.h) or on the centre line; default racing-line for the indirect solver, "
                  "centre-line for ipopt (docs/lap_log.md \"A racing line for the guess\")")
       ->check(CLI::IsMember({"racing-line", "centre-line"}));
+  app.add_option("--start", a.start,
+                 "standing: from bike.yaml's initial speed (the TT's start); flying, on a closed road: at the speed "
+                 "with which the QSS lap on the centre line arrives back at the line (initial.speed_m_per_s set to it; "
+                 "docs/lap.md \"Flying laps\")")
+      ->check(CLI::IsMember({"standing", "flying"}))
+      ->capture_default_str();
   app.add_option("--max-iterations", a.max_iterations,
                  "iteration limit: Ceres iterations of the first continuation step (indirect, default " +
                      std::to_string(IndirectOptions{}.max_iterations) + ", " + std::to_string(kLongRoadMaxIterations) +
@@ -125,6 +133,20 @@ void CheckRoadFitsBike(const ttz::RoadArtefact& road, const std::string& road_fi
         << 2.0 * margin << " m";
       throw ttz::InputError(road_file, o.str());
     }
+}
+
+// --start flying: bike.yaml's initial speed becomes the speed with which the QSS lap on the centre
+// line arrives back at the line (PeriodicQssSpeed), found on the standing bike's mesh (the flying
+// bike's own, without the launch's refinement by --dt-max, is built from it after).
+void SetFlyingStart(const Arguments& a, const RoadTrack& track, BikeParams* bike) {
+  if (!track.Closed())
+    throw ttz::InputError(a.road, "--start flying needs a closed road (road.h5 attribute closed = 1, road_fit --closed)");
+  const Vehicle standing = MakeVehicle(*bike);
+  bike->initial.V = PeriodicQssSpeed(standing, track, LapMesh(standing, track, track.Length(), a.mesh));
+  std::ostringstream o;
+  o << "flying start: initial.speed_m_per_s = " << bike->initial.V
+    << " (the QSS lap on the centre line arrives back at the line at this speed)";
+  ttz::Log(ttz::LogKind::kInfo, o.str());
 }
 
 // Checked before the solve, so a typo in -o does not cost the solve.
@@ -280,10 +302,11 @@ std::vector<DesignSensitivity> Sensitivities(const BikeParams& bike, const RoadT
 int Run(const Arguments& a) {
   CheckOutputFolder(a.output);
   const ttz::RoadArtefact road = ttz::ReadRoad(a.road);
-  const BikeParams bike = LoadBike(a.bike, a.overrides);
+  BikeParams bike = LoadBike(a.bike, a.overrides);
   CheckRoadFitsBike(road, a.road, bike);
-  const Vehicle v = MakeVehicle(bike);
   const RoadTrack track(road, a.road);
+  if (a.start == "flying") SetFlyingStart(a, track, &bike);
+  const Vehicle v = MakeVehicle(bike);
   IndirectOptions options;
   SetWindows(a, track.Length(), &options);
   options.window_guess = QssWindowGuess(v, track);
@@ -307,7 +330,7 @@ int Run(const Arguments& a) {
   const std::vector<DesignSensitivity> sensitivities = Sensitivities(bike, track, sol, summary, options.num_threads);
   WriteLap(a.output, v, sol, summary, channels, qss, resim, sensitivities,
            {a.solver, BikeToYaml(bike), a.road, road_sha256, track.Length(), a.init, a.mesh, mesh_from_init,
-            start.kind, start.lap_time, SolverOptionsOf(a, ipopt, options)});
+            start.kind, start.lap_time, a.start, SolverOptionsOf(a, ipopt, options)});
   std::cout << (a.json ? LapReportJson(sol, summary, channels.figures, resim, sensitivities)
                        : LapReportText(sol, summary, channels.figures, resim, sensitivities))
             << std::flush;

@@ -464,6 +464,18 @@ QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<dou
   return q;
 }
 
+double PeriodicQssSpeed(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh) {
+  constexpr double kAgree = 1e-3;  // [m/s]
+  constexpr int kMaxPasses = 20;
+  Vehicle from = v;
+  for (int pass = 0; pass < kMaxPasses; ++pass) {
+    const double end = ComputeQss(from, road, mesh).V.back();
+    if (std::abs(end - from.V0) <= kAgree) return end;
+    from.V0 = end;
+  }
+  return from.V0;
+}
+
 QssLap ComputeQssFrom(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh,
                       const StateVector<double>& start) {
   Vehicle from = v;

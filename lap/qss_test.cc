@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -100,6 +101,25 @@ TEST_F(QssPackTest, ChargeHasAPriceWhenThePackLimitsTheLap) {
 // On a 200 m sprint with a 0.24 MJ pack (the small pack of analytic_test) spending the pack at full
 // power first and coasting on the speed it gave is faster than any one limit (measured: 9.550 s
 // against 10.428 s), so the QSS takes it and ends with an empty pack.
+// A flying start (PeriodicQssSpeed, lap --start flying) on a circle of 50 m radius is the steady
+// cornering speed: the QSS lap from it holds it all the way round, and is faster than the lap
+// from the standing start's 5 m/s.
+TEST(QssFlyingStartTest, OnACircleItIsTheSteadyCorneringSpeed) {
+  const Vehicle v = Bx15();
+  constexpr double kRadius = 50.0;
+  const RoadTrack road{testing::SyntheticRoad(2.0 * M_PI * kRadius, 8.0, [](double) { return 1.0 / kRadius; },
+                                              testing::Zero)};
+  const std::vector<double> mesh = UniformMesh(road.Length(), 4.0);
+  const double V = PeriodicQssSpeed(v, road, mesh);
+  Vehicle flying = v;
+  flying.V0 = V;
+  const QssLap q = ComputeQss(flying, road, mesh);
+  for (size_t i = 0; i < mesh.size(); ++i) EXPECT_NEAR(q.V[i], V, 1e-3 * V) << i;
+  EXPECT_GT(V, 3.0 * v.V0);  // 16.7 m/s where the standing start is at 5
+  EXPECT_NEAR(q.lap_time, road.Length() / V, 1e-3 * q.lap_time);
+  EXPECT_LT(q.lap_time, ComputeQss(v, road, mesh).lap_time);
+}
+
 TEST(QssSprintTest, SpendingThePackFirstWinsOnASprint) {
   const RoadTrack road(testing::StraightRoad(200.0));
   const std::vector<double> mesh = UniformMesh(road.Length(), 4.0);

@@ -110,7 +110,6 @@ def _summary(lap_h5):
 
 def _keep(lap_h5, folder):
     """Copies a lap and its summary to folder/lap.h5 and folder/lap.txt, each atomically."""
-    os.makedirs(folder, exist_ok=True)
     for source, name in ((_summary(lap_h5), "lap.txt"), (lap_h5, "lap.h5")):
         ttz_h5.write_atomically(os.path.join(folder, name),
                                 lambda temp, source=source: shutil.copyfile(source, temp))

@@ -52,7 +52,6 @@ non-finite values, an unreadable calibration file) is one line on stderr, exit s
 nothing is written.
 """
 import math
-import os
 
 import numpy as np
 
@@ -338,8 +337,6 @@ def main():
         calibration = (args.calibration, read_calibration(args.calibration))
     bike = lap_bike(args.lap, attrs["bike_yaml"]) if calibration else {}
     text, table = report_text(args.lap, attrs, figures(channels, attrs), calibration, bike)
-    folder = os.path.dirname(os.path.abspath(args.output))
-    os.makedirs(folder, exist_ok=True)
     ttz_h5.write_text(args.output, text)
     print(table)
 

@@ -15,6 +15,8 @@ Columns:
   average speed     road length / lap time [km/h]
   top speed         top_speed [km/h]
   energy used       energy_used [MJ] and energy_fraction of the pack [%]
+  start             standing or flying (the lap's `start`, lap --start; standing in laps written
+                    before it) with the speed at the line, state/V at the first node [km/h]
   converged         yes, or no with the solver's message
   re-simulation     the lap time's difference (resim_lap_time_relative) [%], then "passed" or the
                     state that differs most with its difference (resim_worst_state,
@@ -33,7 +35,7 @@ import ttz_h5
 
 KMH = 3.6  # (km/h) per (m/s)
 HEADER = ("circuit", "length [km]", "elevation range [m]", "tightest radius [m]", "lap time",
-          "average speed [km/h]", "top speed [km/h]", "energy used [MJ]", "converged",
+          "average speed [km/h]", "top speed [km/h]", "energy used [MJ]", "start", "converged",
           "re-simulation")
 
 
@@ -44,6 +46,7 @@ def read_circuit(lap_path):
         row = {name: lap.attr(name) for name in
                ("lap_time", "energy_used", "energy_fraction", "top_speed", "road_length")}
         row.update(converged=lap.attr("converged", int), message=lap.attr("message", str),
+                   start=lap.optional_attr("start", str, "standing"), start_speed=float(lap.data("state/V")[0]),
                    resim_passed=lap.optional_attr("resim_passed", int),
                    resim_time=lap.optional_attr("resim_lap_time_relative"),
                    resim_state=lap.optional_attr("resim_max_state_difference"),
@@ -74,7 +77,7 @@ def table_row(row):
             f"{radius:.1f}", lap_plots.format_lap_time(row["lap_time"]),
             f"{KMH * row['road_length'] / row['lap_time']:.1f}", f"{KMH * row['top_speed']:.1f}",
             f"{row['energy_used'] / 1e6:.2f} ({100 * row['energy_fraction']:.1f} %)",
-            "yes" if row["converged"] else "no: " + row["message"], resim_text(row)]
+            f"{row['start']} at {KMH * row['start_speed']:.1f} km/h", "yes" if row["converged"] else "no: " + row["message"], resim_text(row)]
 
 
 def report_text(rows):
@@ -82,9 +85,10 @@ def report_text(rows):
     lines = ["# One bike round several circuits", "",
              "| " + " | ".join(HEADER) + " |", "|" + "---|" * len(HEADER)]
     lines += ["| " + " | ".join(table_row(row)) + " |" for row in rows]
-    lines += ["", "Each lap starts at the bike's initial speed (bike.yaml `initial`), as the TT's "
-              "standing start does: not a flying lap. Roads as fitted by road_fit, level across "
-              "(the ribbon has no banking). docs/pipelines.md \"Other circuits\".", ""]
+    lines += ["", "A standing start is bike.yaml's initial speed, as on the TT; a flying one the speed "
+              "with which the QSS lap on the centre line arrives back at the line (lap --start "
+              "flying). Roads as fitted by road_fit, level across (the ribbon has no banking). "
+              "docs/pipelines.md \"Other circuits\".", ""]
     return "\n".join(lines)
 
 
@@ -95,8 +99,6 @@ def main():
     parser.add_argument("-o", "--output", required=True, help="report.md to write")
     args = parser.parse_args()
     text = report_text([read_circuit(path) for path in args.laps])
-    folder = os.path.dirname(os.path.abspath(args.output))
-    os.makedirs(folder, exist_ok=True)
     ttz_h5.write_text(args.output, text)
     print(text)
 

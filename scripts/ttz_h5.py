@@ -256,9 +256,11 @@ def _umask():
 
 
 def write_atomically(path, write):
-    """Calls write(temporary path) for a temporary file beside `path`, then renames it to
-    `path`; on any failure the temporary file is removed and `path` is untouched."""
+    """Calls write(temporary path) for a temporary file beside `path` (its folder created if
+    missing), then renames it to `path`; on any failure the temporary file is removed and `path`
+    is untouched."""
     folder = os.path.dirname(os.path.abspath(path))
+    os.makedirs(folder, exist_ok=True)
     handle, temp = tempfile.mkstemp(dir=folder, prefix="." + os.path.basename(path) + ".",
                                     suffix=".tmp")
     os.close(handle)

@@ -5,6 +5,7 @@
 #include <hdf5.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -52,6 +53,48 @@ ttz::RoadArtefact StraightRoad(double length, double (*width)(double) = [](doubl
   }
   r.length_m = length;
   r.ds_m = 1.0;
+  r.input_format = "synthetic";
+  r.tool_version = "test";
+  r.converged = true;
+  return r;
+}
+
+// A level closed road 8 m wide, sampled every metre, as road_fit writes a circuit (closed = 1):
+// a stadium of two `straight`-metre straights joined by half circles of `radius` metres turning
+// left, starting halfway along a straight. Heading and position by the midpoint rule along s.
+ttz::RoadArtefact StadiumRoad(double straight, double radius) {
+  const double arc = M_PI * radius, length = 2.0 * (straight + arc);
+  const auto kappa = [&](double s) {
+    const double along = std::fmod(s + 0.5 * straight, straight + arc);  // from a straight's start
+    return along > straight ? 1.0 / radius : 0.0;
+  };
+  ttz::RoadArtefact r;
+  const int n = static_cast<int>(length);
+  const double h = length / n;
+  double theta = 0.0, x = 0.0, y = 0.0;
+  for (int i = 0; i <= n; ++i) {
+    const double s = i * h;
+    if (i > 0) {
+      const double mid = theta + 0.5 * h * kappa(s - 0.5 * h);
+      x += h * std::cos(mid);
+      y += h * std::sin(mid);
+      theta += h * kappa(s - 0.5 * h);
+    }
+    r.s.push_back(s);
+    r.x.push_back(x);
+    r.y.push_back(y);
+    r.theta.push_back(theta);
+    r.kappa.push_back(kappa(s));
+    r.width.push_back(8.0);
+    r.left_x.push_back(x - 4.0 * std::sin(theta));
+    r.left_y.push_back(y + 4.0 * std::cos(theta));
+    r.right_x.push_back(x + 4.0 * std::sin(theta));
+    r.right_y.push_back(y - 4.0 * std::cos(theta));
+    for (auto* f : {&r.z, &r.sigma, &r.nu, &r.tau}) f->push_back(0.0);
+  }
+  r.length_m = length;
+  r.ds_m = h;
+  r.closed = true;
   r.input_format = "synthetic";
   r.tool_version = "test";
   r.converged = true;
@@ -215,6 +258,36 @@ TEST_F(LapCli, TheIpoptOracleSolvesAndWarmStartsTheIndirectSolver) {
 // On a uniform 50 m mesh (--dt-max 0: two intervals, the first ~3 s long from 5 m/s) the oracle
 // converges, but its states between nodes are too coarse for the launch: the re-simulation differs
 // by more than 0.1 % (measured: the energy, 0.21 %) and the run exits 4.
+// --start flying on a closed stadium (straights of 150 m, bends of 30 m radius): the bike crosses
+// the line, halfway along a straight, at the speed with which the QSS lap on the centre line
+// arrives back there (recorded as initial.speed_m_per_s in bike_yaml, and start = flying), where
+// the standing start is at 5 m/s, and the lap is the faster. On an open road it is refused.
+TEST_F(LapCli, AFlyingStartOnAClosedRoad) {
+  const std::string stadium = Road("stadium.h5", StadiumRoad(150.0, 30.0));
+  const CliRun standing = Lap(stadium + " " + kBike + " --ds 5 -q", "standing.h5");
+  const CliRun flying = Lap(stadium + " " + kBike + " --ds 5 -q --start flying", "flying.h5");
+  ASSERT_EQ(standing.exit_code == 0 || standing.exit_code == 4, true) << standing.stderr_text;
+  ASSERT_EQ(flying.exit_code == 0 || flying.exit_code == 4, true) << flying.stderr_text;
+  const ttz::ArtefactReader s(Path("standing.h5"), "ttz.lap", 4), f(Path("flying.h5"), "ttz.lap", 4);
+  EXPECT_TRUE(f.ReadBoolAttribute("converged"));
+  EXPECT_EQ(s.ReadStringAttribute("start"), "standing");
+  EXPECT_EQ(f.ReadStringAttribute("start"), "flying");
+  const double V0 = f.ReadVector("state/V", "m/s").front();
+  EXPECT_EQ(s.ReadVector("state/V", "m/s").front(), 5.0);
+  EXPECT_GT(V0, 15.0);
+  // the centre line's QSS lap from V0 (qss/*, on the flying bike's mesh, which is not the one
+  // PeriodicQssSpeed used: the standing bike's refines the launch) arrives back at about V0
+  EXPECT_NEAR(f.ReadVector("qss/V", "m/s").back(), V0, 0.01 * V0);
+  const std::string yaml = f.ReadStringAttribute("bike_yaml"), key = "speed_m_per_s: ";
+  ASSERT_NE(yaml.find(key), std::string::npos) << yaml;
+  EXPECT_NEAR(std::stod(yaml.substr(yaml.find(key) + key.size())), V0, 1e-9 * V0) << yaml;
+  EXPECT_LT(f.ReadDoubleAttribute("lap_time"), s.ReadDoubleAttribute("lap_time") - 1.0);
+
+  const std::string straight = Road("straight100.h5", StraightRoad(100.0));
+  ExpectBadInput(Lap(straight + " " + kBike + " --start flying"),
+                 straight + ": --start flying needs a closed road");
+}
+
 TEST_F(LapCli, AConvergedSolveThatFailsTheReSimulationExits4) {
   const std::string road = Road("straight100.h5", StraightRoad(100.0));
   const CliRun run = Lap(road + " " + kBike + " --ds 50 --dt-max 0 -q --solver ipopt");
