@@ -277,6 +277,7 @@ WarmStart ReadLapForWarmStart(const std::string& path) {
   ws.eps = r.ReadDoubleAttribute("eps");
   ws.mesh.ds_m = r.ReadDoubleAttribute("mesh_ds");
   ws.mesh.dt_max_s = r.ReadDoubleAttribute("mesh_dt_max");
+  if (r.HasAttribute("start")) ws.start = r.ReadStringAttribute("start");
   ws.road_sha256 = r.ReadStringAttribute("road_sha256");
   ws.road_length = r.ReadDoubleAttribute("road_length");
   return ws;

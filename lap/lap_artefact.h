@@ -67,6 +67,7 @@ struct WarmStart {
   std::vector<ControlVector<double>> u_interval;  // ... of the mesh intervals (physical units)
   double eps = 0.0;                          // barrier weight of the solution [1]
   MeshOptions mesh;                          // the options its mesh was built with
+  std::string start = "standing";            // its `start` ("standing" in files without one)
   std::string road_sha256;
   double road_length = 0.0;                  // [m]
 };

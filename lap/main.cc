@@ -81,8 +81,8 @@ void DefineOptions(CLI::App& app, Arguments& a) {
       ->check(CLI::IsMember({"racing-line", "centre-line"}));
   app.add_option("--start", a.start,
                  "standing: from bike.yaml's initial speed (the TT's start); flying, on a closed road: at the speed "
-                 "with which the QSS lap on the centre line arrives back at the line (initial.speed_m_per_s set to it; "
-                 "docs/lap.md \"Flying laps\")")
+                 "with which the QSS lap on the centre line arrives back at the line (initial.speed_m_per_s set to it, "
+                 "whatever --set gives; docs/lap.md \"Flying laps\")")
       ->check(CLI::IsMember({"standing", "flying"}))
       ->capture_default_str();
   app.add_option("--max-iterations", a.max_iterations,
@@ -135,18 +135,24 @@ void CheckRoadFitsBike(const ttz::RoadArtefact& road, const std::string& road_fi
     }
 }
 
-// --start flying: bike.yaml's initial speed becomes the speed with which the QSS lap on the centre
-// line arrives back at the line (PeriodicQssSpeed), found on the standing bike's mesh (the flying
-// bike's own, without the launch's refinement by --dt-max, is built from it after).
+// --start flying: bike.yaml's initial speed (a --set of it only seeds the search) becomes the speed
+// with which the QSS lap on the centre line arrives back at the line (PeriodicQssSpeed), searched
+// on the standing bike's mesh; the flying bike's own mesh, built from its speeds afterwards, lacks
+// the launch's refinement by --dt-max, so its QSS lap arrives within ~1 % of that speed, not 1e-3 m/s.
 void SetFlyingStart(const Arguments& a, const RoadTrack& track, BikeParams* bike) {
   if (!track.Closed())
     throw ttz::InputError(a.road, "--start flying needs a closed road (road.h5 attribute closed = 1, road_fit --closed)");
   const Vehicle standing = MakeVehicle(*bike);
-  bike->initial.V = PeriodicQssSpeed(standing, track, LapMesh(standing, track, track.Length(), a.mesh));
+  bool settled = false;
+  bike->initial.V = PeriodicQssSpeed(standing, track, LapMesh(standing, track, track.Length(), a.mesh), &settled);
   std::ostringstream o;
-  o << "flying start: initial.speed_m_per_s = " << bike->initial.V
-    << " (the QSS lap on the centre line arrives back at the line at this speed)";
-  ttz::Log(ttz::LogKind::kInfo, o.str());
+  o << "flying start: initial.speed_m_per_s = " << bike->initial.V;
+  if (settled)
+    o << " (the QSS lap on the centre line arrives back at the line at this speed)";
+  else
+    o << ", the speed at which the last of 20 QSS laps on the centre line arrived back at the line: they did not settle "
+         "on one speed (docs/lap.md \"Flying laps\")";
+  ttz::Log(settled ? ttz::LogKind::kInfo : ttz::LogKind::kWarning, o.str());
 }
 
 // Checked before the solve, so a typo in -o does not cost the solve.
@@ -169,13 +175,14 @@ WarmStart ReadInit(const Arguments& a, const std::string& road_sha256, double ro
 }
 
 // Whether to solve on the --init lap's own mesh: when it is a lap of this very road file built
-// with these mesh options. Its bike may differ, and with it the speeds --dt-max refined for (at
-// the launch and in slow bends), but its solution then carries over without interpolation, which
-// leaves defects in the fast states (omega_w, omega_phi, z_dot) that cost Ipopt more iterations
-// than the warm start saves (docs/lap.md, "Warm starts on the earlier lap's mesh").
+// with these mesh options and the same start (a standing start's mesh refines the launch, a flying
+// one's does not). Its bike may differ, and with it the speeds --dt-max refined for (at the launch
+// and in slow bends), but its solution then carries over without interpolation, which leaves
+// defects in the fast states (omega_w, omega_phi, z_dot) that cost Ipopt more iterations than the
+// warm start saves (docs/lap.md, "Warm starts on the earlier lap's mesh").
 bool UseInitMesh(const Arguments& a, const std::optional<WarmStart>& init, const std::string& road_sha256) {
   return init && init->road_sha256 == road_sha256 && init->mesh.ds_m == a.mesh.ds_m &&
-         init->mesh.dt_max_s == a.mesh.dt_max_s;
+         init->mesh.dt_max_s == a.mesh.dt_max_s && init->start == a.start;
 }
 
 // The initial guess from --init: the earlier solution on this mesh, with this bike's fixed

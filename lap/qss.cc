@@ -464,13 +464,15 @@ QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<dou
   return q;
 }
 
-double PeriodicQssSpeed(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh) {
+double PeriodicQssSpeed(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh,
+                        bool* settled) {
   constexpr double kAgree = 1e-3;  // [m/s]
   constexpr int kMaxPasses = 20;
   Vehicle from = v;
-  for (int pass = 0; pass < kMaxPasses; ++pass) {
+  *settled = false;
+  for (int pass = 0; pass < kMaxPasses && !*settled; ++pass) {
     const double end = ComputeQss(from, road, mesh).V.back();
-    if (std::abs(end - from.V0) <= kAgree) return end;
+    *settled = std::abs(end - from.V0) <= kAgree;
     from.V0 = end;
   }
   return from.V0;

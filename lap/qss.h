@@ -61,13 +61,15 @@ QssLap ComputeQss(const Vehicle& v, const RoadTrack& road, const std::vector<dou
 
 // A flying lap's start on a closed road (lap --start flying): the speed V0 with which the QSS lap
 // on the centre line that starts at V0 arrives back at the line. Found by passes from v's own V0,
-// each starting at the speed the one before ended with, until two agree within 1e-3 m/s (at most
-// 20; the last end speed then). A lap forgets its start at its first braking point, so on most
-// circuits the second pass agrees with the first; the bike's start temperature and charge stay
-// v's in every pass. Not the racing line's QSS lap: its line, free at the road's end, swings
-// across the road there to straighten its path (on a circle of 40 m radius from the inside to
-// the outside border in the last 20 m), so its speed at the end is not the speed at the line.
-double PeriodicQssSpeed(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh);
+// each starting at the speed the one before ended with, until two agree within 1e-3 m/s; after 20
+// passes without that, the last end speed, with *settled false (a lap that never brakes ends each
+// pass faster, towards its top speed). A lap forgets its start at its first braking point, so on
+// a circuit the second pass agrees with the first. The start temperature and charge stay v's in
+// every pass. Not the racing line's QSS lap: its line, free at the road's end, swings across the
+// road there to straighten its path (on a circle of 40 m radius from the inside to the outside
+// border in the last 20 m), so its speed at the end is not the speed at the line.
+double PeriodicQssSpeed(const Vehicle& v, const RoadTrack& road, const std::vector<double>& mesh,
+                        bool* settled);
 
 // The QSS lap on the racing line of `mesh` (ComputeRacingLine with the bike's border margin,
 // starting at start's offset n) from `start` instead of the bike's initial state: its speed,

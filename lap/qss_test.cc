@@ -98,9 +98,6 @@ TEST_F(QssPackTest, ChargeHasAPriceWhenThePackLimitsTheLap) {
   EXPECT_NEAR(forward, price, 0.2 * price);
 }
 
-// On a 200 m sprint with a 0.24 MJ pack (the small pack of analytic_test) spending the pack at full
-// power first and coasting on the speed it gave is faster than any one limit (measured: 9.550 s
-// against 10.428 s), so the QSS takes it and ends with an empty pack.
 // A flying start (PeriodicQssSpeed, lap --start flying) on a circle of 50 m radius is the steady
 // cornering speed: the QSS lap from it holds it all the way round, and is faster than the lap
 // from the standing start's 5 m/s.
@@ -110,7 +107,9 @@ TEST(QssFlyingStartTest, OnACircleItIsTheSteadyCorneringSpeed) {
   const RoadTrack road{testing::SyntheticRoad(2.0 * M_PI * kRadius, 8.0, [](double) { return 1.0 / kRadius; },
                                               testing::Zero)};
   const std::vector<double> mesh = UniformMesh(road.Length(), 4.0);
-  const double V = PeriodicQssSpeed(v, road, mesh);
+  bool settled = false;
+  const double V = PeriodicQssSpeed(v, road, mesh, &settled);
+  EXPECT_TRUE(settled);
   Vehicle flying = v;
   flying.V0 = V;
   const QssLap q = ComputeQss(flying, road, mesh);
@@ -118,6 +117,25 @@ TEST(QssFlyingStartTest, OnACircleItIsTheSteadyCorneringSpeed) {
   EXPECT_GT(V, 3.0 * v.V0);  // 16.7 m/s where the standing start is at 5
   EXPECT_NEAR(q.lap_time, road.Length() / V, 1e-3 * q.lap_time);
   EXPECT_LT(q.lap_time, ComputeQss(v, road, mesh).lap_time);
+}
+
+// On a 200 m sprint with a 0.24 MJ pack (the small pack of analytic_test) spending the pack at full
+// power first and coasting on the speed it gave is faster than any one limit (measured: 9.550 s
+// against 10.428 s), so the QSS takes it and ends with an empty pack.
+// On a road that never brakes (a 50 m straight, taken as closed) every pass ends faster than it
+// started, towards the bike's top speed, and PeriodicQssSpeed says it did not settle in its 20
+// passes (on a 300 m straight they reach the top speed, 60.94 m/s, and settle).
+TEST(QssFlyingStartTest, ALapThatNeverBrakesDoesNotSettle) {
+  const Vehicle v = Bx15();
+  const RoadTrack road(testing::StraightRoad(50.0));
+  const std::vector<double> mesh = UniformMesh(road.Length(), 2.0);
+  bool settled = true;
+  const double V = PeriodicQssSpeed(v, road, mesh, &settled);
+  EXPECT_FALSE(settled);
+  Vehicle from = v;
+  from.V0 = V;
+  EXPECT_GT(ComputeQss(from, road, mesh).V.back(), V + 1e-3);  // still gaining
+  EXPECT_GT(V, 30.0);  // after twenty 50 m runs from 5 m/s
 }
 
 TEST(QssSprintTest, SpendingThePackFirstWinsOnASprint) {

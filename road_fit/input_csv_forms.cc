@@ -112,15 +112,21 @@ void WarnOfBanking(const CsvTable& t) {
                                "' is ignored: the ribbon has no banking (paper eq. 4-8), so the road is fitted level across");
 }
 
-}  // namespace
-
-RawInput ReadCsvForms(const std::string& path) {
-  const CsvTable t = ReadCsv(path);
-  WarnOfBanking(t);
+// The points of the table in its form: border points (long form), border pairs or a centre line.
+RawInput ReadCsvForm(const CsvTable& t) {
   const int side = t.FindColumn({"side"});
   if (side >= 0) return LongForm(t, side);
   if (auto pairs = BorderPairs(t)) return *pairs;
   return CentreLine(t);
+}
+
+}  // namespace
+
+RawInput ReadCsvForms(const std::string& path) {
+  const CsvTable t = ReadCsv(path);
+  RawInput in = ReadCsvForm(t);
+  WarnOfBanking(t);  // once the file has been read as one of the forms: not beside an error
+  return in;
 }
 
 }  // namespace ttz::road

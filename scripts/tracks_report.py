@@ -24,8 +24,11 @@ Columns:
 
 Writes report.md atomically (its folder created if missing) and prints it on stdout. Bad input
 (a missing file, a file that is not a lap.h5, no road.h5 beside a lap or one of another length, a
-missing dataset or attribute) is one line on stderr, exit status 1, and nothing is written.
+missing dataset or attribute, a figure that is not finite or a lap time, length, top speed or
+pack share that is not positive, a re-simulation verdict without its figures) is one line on
+stderr, exit status 1, and nothing is written.
 """
+import math
 import os
 
 import numpy as np
@@ -39,24 +42,46 @@ HEADER = ("circuit", "length [km]", "elevation range [m]", "tightest radius [m]"
           "re-simulation")
 
 
-def read_circuit(lap_path):
-    """{figure: value} of one lap and the road.h5 beside it."""
+def checked(path, name, value, positive=False):
+    """`value` when it is finite (and > 0 with `positive`), else InputError naming `name`."""
+    if not math.isfinite(value) or (positive and value <= 0.0):
+        raise ttz_h5.InputError(path, f"'{name}' is {value}, expected a finite"
+                                f"{' positive' if positive else ''} number")
+    return value
+
+
+def read_lap_figures(lap_path):
+    """{figure: value} of one lap.h5, each checked."""
     lap = ttz_h5.open_lap(lap_path)
     try:
-        row = {name: lap.attr(name) for name in
-               ("lap_time", "energy_used", "energy_fraction", "top_speed", "road_length")}
+        row = {name: checked(lap_path, name, lap.attr(name), positive=name != "energy_used")
+               for name in ("lap_time", "energy_used", "energy_fraction", "top_speed", "road_length")}
+        speed = lap.data("state/V")
         row.update(converged=lap.attr("converged", int), message=lap.attr("message", str),
-                   start=lap.optional_attr("start", str, "standing"), start_speed=float(lap.data("state/V")[0]),
-                   resim_passed=lap.optional_attr("resim_passed", int),
-                   resim_time=lap.optional_attr("resim_lap_time_relative"),
-                   resim_state=lap.optional_attr("resim_max_state_difference"),
-                   resim_worst=lap.optional_attr("resim_worst_state", str, "a state"))
+                   start=lap.optional_attr("start", str, "standing"),
+                   start_speed=checked(lap_path, "state/V", float(speed[0]) if speed.size else math.nan),
+                   resim_passed=lap.optional_attr("resim_passed", int))
+        if row["resim_passed"] is not None:  # the check's figures come with its verdict
+            row.update(resim_time=checked(lap_path, "resim_lap_time_relative", lap.attr("resim_lap_time_relative")),
+                       resim_state=checked(lap_path, "resim_max_state_difference",
+                                           lap.attr("resim_max_state_difference")),
+                       resim_worst=lap.optional_attr("resim_worst_state", str, "a state"))
+        return row
     finally:
         lap.h5.close()
+
+
+def read_circuit(lap_path):
+    """{figure: value} of one lap and the road.h5 beside it."""
+    row = read_lap_figures(lap_path)
     folder = os.path.dirname(os.path.abspath(lap_path))
-    road = lap_plots.read_road(os.path.join(folder, "road.h5"), row["road_length"], ("s", "z", "kappa"))
-    row["kappa_max"] = float(np.max(np.abs(road["kappa"])))
-    row.update(name=os.path.basename(folder), z_range=float(np.ptp(road["z"])))
+    road_path = os.path.join(folder, "road.h5")
+    road = lap_plots.read_road(road_path, row["road_length"], ("s", "z", "kappa"))
+    for name in ("z", "kappa"):
+        if not np.all(np.isfinite(road[name])):
+            raise ttz_h5.InputError(road_path, f"dataset '{name}' has non-finite values")
+    row.update(name=os.path.basename(folder), z_range=float(np.ptp(road["z"])),
+               kappa_max=float(np.max(np.abs(road["kappa"]))))
     return row
 
 

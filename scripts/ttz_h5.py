@@ -117,7 +117,12 @@ class Artefact:
         if name not in self.h5.attrs:
             raise InputError(self.path, f"missing attribute '{name}'")
         value = self.h5.attrs[name]
-        return _text(value) if kind is str else kind(np.asarray(value).reshape(-1)[0])
+        if kind is str:
+            return _text(value)
+        try:
+            return kind(np.asarray(value).reshape(-1)[0])
+        except (TypeError, ValueError, IndexError):
+            raise InputError(self.path, f"attribute '{name}' is not a number") from None
 
     def optional_attr(self, name, kind=float, default=None):
         """attr(), or `default` for an attribute that older or partial files may lack."""
@@ -258,7 +263,7 @@ def _umask():
 def write_atomically(path, write):
     """Calls write(temporary path) for a temporary file beside `path` (its folder created if
     missing), then renames it to `path`; on any failure the temporary file is removed and `path`
-    is untouched."""
+    is untouched (a folder created for it stays, empty)."""
     folder = os.path.dirname(os.path.abspath(path))
     os.makedirs(folder, exist_ok=True)
     handle, temp = tempfile.mkstemp(dir=folder, prefix="." + os.path.basename(path) + ".",

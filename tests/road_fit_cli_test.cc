@@ -161,6 +161,10 @@ TEST_F(RoadFitCli, ABankingColumnIsIgnoredWithAWarning) {
   const CliRun level = RoadFit(File("level.csv", "x_m,y_m,w_tr_right_m,w_tr_left_m\n" + rows("")));
   EXPECT_EQ(level.exit_code, 0) << level.stderr_text;
   EXPECT_EQ(level.stderr_text.find("banking"), std::string::npos) << level.stderr_text;
+  // a file that is no form at all: its error alone
+  fs::remove(Output());
+  const auto bad = File("bad.csv", "bank,foo\n1,2\n");
+  ExpectBadInput(RoadFit(bad), bad + ": unknown columns (bank,foo)");
 }
 
 TEST_F(RoadFitCli, AFarOutlierIsAnErrorOrAbsorbedWithRobust) {

@@ -260,7 +260,10 @@ PathEnd FollowPath(CurveSystem* sys, PathFamily* family, double p0, const PathSe
     point.p = point.last ? settings.p_end : point.converged ? z[n] : yp[n];
     point.slope = point.converged && !point.last ? tn[n] : 0.0;
     point.length = dsi;
-    if (point.converged && !point.last) point.turn = std::acos(std::clamp(tn.dot(t), -1.0, 1.0));
+    if (point.converged && !point.last) {
+      const double along = tn.dot(t);  // the angle by atan2: acos loses small ones to rounding
+      point.turn = std::atan2((tn - along * t).norm(), along);
+    }
     point.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     budget -= point.iterations;
     if (point.converged) tr->KeepControlsAsStarts();

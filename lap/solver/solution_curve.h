@@ -181,7 +181,8 @@ struct PathPoint {
   double max_residual = 0.0;   // max |G| at its last iterate
   double slope = 0.0;          // dp/ds of the new tangent (not at the last step)
   double length = 0.0;         // the step's arclength ds (scaled unknowns and p)
-  double turn = 0.0;           // angle between the tangents before and after it [rad]
+  double turn = 0.0;           // angle between the tangents before and after it [rad] (not at a
+                               // failed or the last step: 0)
 };
 
 enum class PathEnd { kReached, kTurned, kFailed };

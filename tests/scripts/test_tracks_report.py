@@ -50,6 +50,28 @@ class TracksReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
         not_lap = fx.write_road(self.path("not_a_lap.h5"))
         self.assert_refused(fx.run("tracks_report.py", not_lap, "-o", out), "not_a_lap.h5", absent=[out])
 
+    def test_figures_that_are_not_numbers_are_refused(self):
+        out = self.path("report.md")
+        for case, (name, value), words in (
+                ("zero_time", ("lap_time", 0.0), ["'lap_time' is 0.0, expected a finite positive number"]),
+                ("nan_time", ("lap_time", float("nan")), ["'lap_time' is nan"]),
+                ("text_speed", ("top_speed", "fast"), ["attribute 'top_speed' is not a number"]),
+                ("verdict_alone", ("resim_passed", 0), ["missing attribute 'resim_lap_time_relative'"])):
+            lap = self.circuit(case)
+            with h5py.File(lap, "a") as h5:
+                h5.attrs[name] = value
+            self.assert_refused(fx.run("tracks_report.py", lap, "-o", out), case, *words, absent=[out])
+        empty = self.circuit("empty_speed")
+        with h5py.File(empty, "a") as h5:
+            del h5["state/V"]
+            h5.create_dataset("state/V", data=[])
+        self.assert_refused(fx.run("tracks_report.py", empty, "-o", out), "'state/V' is nan", absent=[out])
+        bent = self.circuit("nan_kappa")
+        with h5py.File(self.path("nan_kappa", "road.h5"), "a") as h5:
+            h5["kappa"][3] = float("nan")
+        self.assert_refused(fx.run("tracks_report.py", bent, "-o", out), "road.h5", "'kappa' has non-finite values",
+                            absent=[out])
+
 
 if __name__ == "__main__":
     fx.main()
