@@ -98,6 +98,13 @@ TEST_F(QssPackTest, ChargeHasAPriceWhenThePackLimitsTheLap) {
   EXPECT_NEAR(forward, price, 0.2 * price);
 }
 
+// The QSS lap on the centre line of `road` from the start speed V [m/s].
+QssLap QssFrom(const Vehicle& v, double V, const RoadTrack& road, const std::vector<double>& mesh) {
+  Vehicle from = v;
+  from.V0 = V;
+  return ComputeQss(from, road, mesh);
+}
+
 // A flying start (PeriodicQssSpeed, lap --start flying) on a circle of 50 m radius is the steady
 // cornering speed: the QSS lap from it holds it all the way round, and is faster than the lap
 // from the standing start's 5 m/s.
@@ -110,18 +117,13 @@ TEST(QssFlyingStartTest, OnACircleItIsTheSteadyCorneringSpeed) {
   bool settled = false;
   const double V = PeriodicQssSpeed(v, road, mesh, &settled);
   EXPECT_TRUE(settled);
-  Vehicle flying = v;
-  flying.V0 = V;
-  const QssLap q = ComputeQss(flying, road, mesh);
+  const QssLap q = QssFrom(v, V, road, mesh);
   for (size_t i = 0; i < mesh.size(); ++i) EXPECT_NEAR(q.V[i], V, 1e-3 * V) << i;
   EXPECT_GT(V, 3.0 * v.V0);  // 16.7 m/s where the standing start is at 5
   EXPECT_NEAR(q.lap_time, road.Length() / V, 1e-3 * q.lap_time);
   EXPECT_LT(q.lap_time, ComputeQss(v, road, mesh).lap_time);
 }
 
-// On a 200 m sprint with a 0.24 MJ pack (the small pack of analytic_test) spending the pack at full
-// power first and coasting on the speed it gave is faster than any one limit (measured: 9.550 s
-// against 10.428 s), so the QSS takes it and ends with an empty pack.
 // On a road that never brakes (a 50 m straight, taken as closed) every pass ends faster than it
 // started, towards the bike's top speed, and PeriodicQssSpeed says it did not settle in its 20
 // passes (on a 300 m straight they reach the top speed, 60.94 m/s, and settle).
@@ -132,12 +134,13 @@ TEST(QssFlyingStartTest, ALapThatNeverBrakesDoesNotSettle) {
   bool settled = true;
   const double V = PeriodicQssSpeed(v, road, mesh, &settled);
   EXPECT_FALSE(settled);
-  Vehicle from = v;
-  from.V0 = V;
-  EXPECT_GT(ComputeQss(from, road, mesh).V.back(), V + 1e-3);  // still gaining
+  EXPECT_GT(QssFrom(v, V, road, mesh).V.back(), V + 1e-3);  // still gaining
   EXPECT_GT(V, 30.0);  // after twenty 50 m runs from 5 m/s
 }
 
+// On a 200 m sprint with a 0.24 MJ pack (the small pack of analytic_test) spending the pack at full
+// power first and coasting on the speed it gave is faster than any one limit (measured: 9.550 s
+// against 10.428 s), so the QSS takes it and ends with an empty pack.
 TEST(QssSprintTest, SpendingThePackFirstWinsOnASprint) {
   const RoadTrack road(testing::StraightRoad(200.0));
   const std::vector<double> mesh = UniformMesh(road.Length(), 4.0);
