@@ -24,6 +24,9 @@ Writes into OUTDIR (created if missing), each file atomically:
   fig12_gear.png     (--gear) vs gear ratio: lap time [s], top speed on course [km/h] (attribute
                      top_speed), 0-120 km/h time [s], energy used [MJ] with the pack energy as a
                      black line, overall power-train efficiency [%]
+  gear_gain.png      (--gear, when the optimum and the reference gear both converged and differ)
+                     where the optimum gains on the reference gear: both speeds [km/h] and the
+                     running time difference [s] along the road (scripts/lap_compare.py)
   fig14_battery.png  (--battery) lap time [s] and battery usage [% of the pack] vs pack energy [MJ]
   fig15_grid.png     (--grid) filled contours of lap time over gear ratio x pack energy,
                      triangulated from the points themselves (an incomplete grid is drawn where
@@ -34,7 +37,9 @@ Writes into OUTDIR (created if missing), each file atomically:
   report.md          per study, the paper's figures beside ours with the difference in percent,
                      (ours - paper) / paper (for locations such as the optimum gear the absolute
                      difference too; for percentages the difference in percentage points too),
-                     a table of every point, the points that did not converge, those solved
+                     the gear study's 1 km segments where the optimum gains most on the
+                     reference gear (as gear_gain.png), a table of every point, the points that
+                     did not converge, those solved
                      otherwise than the most of them (solver, mesh_ds, mesh_dt_max), and what the
                      studies cost to solve (each lap's `iterations` and `solve_seconds`; a lap
                      that several studies share, e.g. a copy of the reference lap, counts once;
@@ -72,6 +77,7 @@ import os
 
 import numpy as np
 
+import lap_compare
 import ttz_h5
 
 KMH = 3.6                      # (km/h) per (m/s)
@@ -533,8 +539,38 @@ def point_rows(points, study):
     return table(header, rows)
 
 
-def gear_section(points, ref_gear):
-    """report.md section and summary line of the gear study."""
+# Where the optimum gear gains on the reference gear: segments of this length, this many listed.
+GAIN_SEGMENT_M = 1000.0
+GAIN_ROWS = 3
+
+
+def gear_gain(points, ref_gear):
+    """(A, B, comparison) of lap_compare for the reference gear's lap (A) and the optimum's (B),
+    when both converged and differ; else None."""
+    opt = best(points)
+    ref = find(points, lambda p: is_reference_gear(p, ref_gear))
+    if ref is None or opt is ref or not (ref.converged and opt.converged):
+        return None
+    a, b = lap_compare.read_lap(ref.path), lap_compare.read_lap(opt.path)
+    lap_compare.check_same_road(a, b)
+    return a, b, lap_compare.compare(a, b, GAIN_SEGMENT_M, GAIN_ROWS)
+
+
+def gain_lines(points, ref_gear, compared):
+    """The segments where the optimum gains most on the reference gear (`compared`: gear_gain's)."""
+    if compared is None:
+        return []
+    result = compared[2]
+    lines = [f"Where gear {best(points).gear:g} gains its {-result['difference_s']:.1f} s on gear "
+             f"{ref_gear:g} (gear_gain.png; `scripts/lap_compare.py`), the "
+             f"{GAIN_SEGMENT_M / 1e3:g} km segments of the largest gains:", ""]
+    lines += [f"- km {p['from_m'] / 1e3:g}-{p['to_m'] / 1e3:g}: {p['delta_s']:+.2f} s, "
+              f"{KMH * p['speed_a']:.1f} -> {KMH * p['speed_b']:.1f} km/h" for p in result["b_gains"]]
+    return lines + [""]
+
+
+def gear_section(points, ref_gear, compared=None):
+    """report.md section and summary line of the gear study; `compared`: gear_gain's."""
     opt = best(points)
     ref = find(points, lambda p: is_reference_gear(p, ref_gear))
     gain = ref.lap_time - opt.lap_time if ref else None
@@ -586,6 +622,7 @@ def gear_section(points, ref_gear):
     lines = [f"## Gear ratio (Fig. 12): {len(points)} points, gear {min(p.gear for p in points):g}"
              f" to {max(p.gear for p in points):g}", ""]
     lines += table(["quantity", "paper", "ours", "difference"], rows) + [""]
+    lines += gain_lines(points, ref_gear, compared)
     lines += status_lines(points) + point_rows(points, "gear") + [""]
     summary = f"gear: optimum {opt.gear:g}{flag(opt)} (lap {lap_text(opt.lap_time)})"
     summary += (f", gain over {ref_gear:g} {gain:.1f} s" if ref
@@ -785,8 +822,8 @@ def cost_section(studies):
     return lines + [""], summary
 
 
-def report_text(studies, ref_gear, ref_pack_mj):
-    """report.md and the summary lines."""
+def report_text(studies, ref_gear, ref_pack_mj, compared=None):
+    """report.md and the summary lines; `compared`: gear_gain's of the gear study."""
     lines = ["# Design studies against the paper (section 5)", "",
              "Paper: paper-tt-zero-lap-time-optimisation.md, sections 4 and 5. Differences are "
              "(ours - paper) / paper; locations (gear ratio, pack energy) give the absolute "
@@ -795,7 +832,7 @@ def report_text(studies, ref_gear, ref_pack_mj):
              "CONVERGED and drawn hollow in the figures.", ""]
     lines += reference_section(studies, ref_gear, ref_pack_mj)
     summaries = []
-    builders = {"gear": lambda p: gear_section(p, ref_gear),
+    builders = {"gear": lambda p: gear_section(p, ref_gear, compared),
                 "battery": lambda p: battery_section(p, ref_pack_mj),
                 "grid": lambda p: grid_section(p, ref_gear, ref_pack_mj),
                 "motors": motors_section}
@@ -973,11 +1010,14 @@ def main():
     if not studies:
         print("no study has enough points yet: nothing written")
         return
-    report, summaries = report_text(studies, args.reference_gear, args.reference_pack_mj)
+    compared = gear_gain(studies["gear"], args.reference_gear) if "gear" in studies else None
+    report, summaries = report_text(studies, args.reference_gear, args.reference_pack_mj, compared)
     plt = ttz_h5.pyplot()
     builders = {}
     if "gear" in studies:
         builders["fig12_gear.png"] = lambda: gear_figure(plt, studies["gear"], args.reference_gear)
+    if compared is not None:
+        builders["gear_gain.png"] = lambda: lap_compare.delta_figure(plt, compared[0], compared[1])
     if "battery" in studies:
         builders["fig14_battery.png"] = lambda: battery_figure(plt, studies["battery"],
                                                                args.reference_pack_mj)

@@ -60,7 +60,8 @@ def write_point(path, lap_time, energy_used, top_speed=60.0, converged=1, messag
         attrs = {"schema": schema, "schema_version": 2, "lap_time": lap_time,
                  "top_speed": top_speed, "energy_used": energy_used,
                  "energy_fraction": energy_used / pack_j, "converged": np.int8(converged),
-                 "message": message, "bike_yaml": bike_yaml(**bike), "road_sha256": "abc"}
+                 "message": message, "bike_yaml": bike_yaml(**bike), "road_sha256": "abc",
+                 "road_length": 60e3}
         if timed:
             attrs.update(iterations=np.int32(timed[0]), solve_seconds=timed[1])
         if mesh:
@@ -131,10 +132,14 @@ class StudyReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
                         "--battery", *self.battery_study(), "--grid", *self.grid_study(),
                         "--motors", *self.motor_study(), "-o", self.out)
         self.assert_ok(result)
-        for name in ("fig12_gear.png", "fig14_battery.png", "fig15_grid.png"):
+        for name in ("fig12_gear.png", "gear_gain.png", "fig14_battery.png", "fig15_grid.png"):
             self.assertGreater(os.path.getsize(os.path.join(self.out, name)), 1000, name)
         self.assert_no_temporaries(self.out)
         report = self.read("report.md")
+        # where 3.3 gains on 2.8: the fixture's time runs uniformly along its 60 km, 1700 s
+        # against 1750 s, so every km gains 50 / 60 s, at 123.4 -> 127.1 km/h
+        self.assertIn("Where gear 3.3 gains its 50.0 s on gear 2.8 (gear_gain.png", report)
+        self.assertEqual(report.count(": -0.83 s, 123.4 -> 127.1 km/h\n"), 3, report)
         # gear: optimum 3.3 (the unconverged 3.5 has a smaller lap time but must not win);
         # paper 3.4: -0.10 absolute, (3.3 - 3.4) / 3.4 = -2.9 %
         self.assertIn("| optimum gear ratio (least lap time) | 3.4 | 3.3 | -0.10 (-2.9 %) |",
@@ -269,6 +274,14 @@ class StudyReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
         line = self.assert_refused(result, *words)
         self.assertFalse(os.path.exists(self.out), "output written")
         return line
+
+    def test_no_gain_figure_without_the_reference_gear(self):
+        folder = self.gear_study()
+        os.remove(os.path.join(folder, "g2.8.h5"))
+        self.assert_ok(fx.run("study_report.py", "--gear", folder, "-o", self.out))
+        self.assertTrue(os.path.exists(os.path.join(self.out, "fig12_gear.png")))
+        self.assertFalse(os.path.exists(os.path.join(self.out, "gear_gain.png")))
+        self.assertNotIn("Where gear", self.read("report.md"))
 
     def test_missing_file_spoils_every_study(self):
         self.refused("--gear", self.gear_study(), "--battery", self.path("absent.h5"),
