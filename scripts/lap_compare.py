@@ -103,17 +103,18 @@ def report_text(result):
     return "\n".join(lines)
 
 
-def delta_figure(plt, a, b):
-    """Speeds [km/h] and t_B - t_A [s] against the distance along A's road [km]."""
+def delta_figure(plt, a, b, labels=("A", "B")):
+    """Speeds [km/h] and t_B - t_A [s] against the distance along A's road [km]; the laps named
+    by `labels` in the legend."""
     figure, (speed, delta) = plt.subplots(2, 1, figsize=(11, 7), sharex=True)
     km = a["s"] / 1e3
-    speed.plot(km, KMH * a["V"], lw=0.8, label="A")
-    speed.plot(b["s"] / 1e3, KMH * b["V"], lw=0.8, label="B")
+    speed.plot(km, KMH * a["V"], lw=0.8, label=labels[0])
+    speed.plot(b["s"] / 1e3, KMH * b["V"], lw=0.8, label=labels[1])
     speed.set_ylabel("speed [km/h]")
     speed.legend()
     delta.plot(km, np.interp(a["s"], b["s"], b["t"]) - a["t"], color="k", lw=0.9)
     delta.axhline(0.0, color="0.6", lw=0.5)
-    delta.set_ylabel("t_B - t_A [s] (below 0: B ahead)")
+    delta.set_ylabel(f"t({labels[1]}) - t({labels[0]}) [s]")
     delta.set_xlabel("distance s [km]")
     for axis in (speed, delta):
         axis.grid(True, alpha=0.3)

@@ -1017,7 +1017,9 @@ def main():
     if "gear" in studies:
         builders["fig12_gear.png"] = lambda: gear_figure(plt, studies["gear"], args.reference_gear)
     if compared is not None:
-        builders["gear_gain.png"] = lambda: lap_compare.delta_figure(plt, compared[0], compared[1])
+        opt_gear = best(studies["gear"]).gear
+        builders["gear_gain.png"] = lambda: lap_compare.delta_figure(
+            plt, compared[0], compared[1], (f"gear {args.reference_gear:g}", f"gear {opt_gear:g}"))
     if "battery" in studies:
         builders["fig14_battery.png"] = lambda: battery_figure(plt, studies["battery"],
                                                                args.reference_pack_mj)
