@@ -68,6 +68,7 @@ LapFigures Figures(const Vehicle& v, const LapSolution& sol, const LapChannels& 
   f.energy_used = c.energy_used.back();
   f.energy_fraction = f.energy_used / v.pack.e_i;
   for (const StateVector<double>& x : sol.x) f.top_speed = std::max(f.top_speed, x[kV]);
+  f.start_speed = sol.x.front()[kV];
   f.average_speed = (sol.s.back() - sol.s.front()) / f.lap_time;
   return f;
 }

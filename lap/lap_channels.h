@@ -22,6 +22,7 @@ struct LapFigures {
   double energy_used = 0.0;      // e(0) - e(s_f) [J] (eq. 33)
   double energy_fraction = 0.0;  // energy_used / e_i, of the full pack [1]
   double top_speed = 0.0;        // max V [m/s]
+  double start_speed = 0.0;      // V at the first node [m/s] (standing or flying: lap --start)
   double average_speed = 0.0;    // road length / lap time [m/s]
 };
 

@@ -135,6 +135,8 @@ TEST_F(LapChannelsTest, EnergyAndHeadlineFigures) {
   EXPECT_DOUBLE_EQ(c.figures.energy_used, 4e4);
   EXPECT_DOUBLE_EQ(c.figures.energy_fraction, 4e4 / v.pack.e_i);
   EXPECT_DOUBLE_EQ(c.figures.top_speed, 17.0);
+  EXPECT_DOUBLE_EQ(c.figures.start_speed, sol.x.front()[kV]);
+  EXPECT_LT(c.figures.start_speed, c.figures.top_speed);
   EXPECT_DOUBLE_EQ(c.figures.lap_time, sol.t.back());
   EXPECT_DOUBLE_EQ(c.figures.average_speed, 40.0 / sol.t.back());
 }

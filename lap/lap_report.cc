@@ -83,6 +83,7 @@ std::string LapReportText(const LapSolution& sol, const SolveSummary& summary, c
   o << "energy used    " << Printf("%.2f MJ", f.energy_used * 1e-6)
     << Printf(" (%.1f %% of the pack)\n", 100.0 * f.energy_fraction);
   o << "top speed      " << Printf("%.1f km/h\n", f.top_speed * kKmH);
+  o << "start speed    " << Printf("%.1f km/h\n", f.start_speed * kKmH);
   o << "re-simulation  " << ResimLine(resim) << "\n";
   o << "converged      " << (summary.converged ? "yes" : "no (" + SolveMessage(summary) + ")") << "\n";
   if (!sensitivities.empty()) o << SensitivityLines(sensitivities);
@@ -100,6 +101,7 @@ std::string LapReportJson(const LapSolution& sol, const SolveSummary& summary, c
     << ", \"energy_used\": " << JsonNumber(f.energy_used)
     << ", \"energy_fraction\": " << JsonNumber(f.energy_fraction)
     << ", \"top_speed\": " << JsonNumber(f.top_speed)
+    << ", \"start_speed\": " << JsonNumber(f.start_speed)
     << ", \"converged\": " << (summary.converged ? "true" : "false")
     << ", \"message\": " << JsonString(SolveMessage(summary))
     << ", \"max_residual\": " << JsonNumber(summary.max_residual)

@@ -14,7 +14,7 @@ namespace ttz::lap {
 // A time as minutes:seconds with tenths, "m:ss.s" (72.46 s -> "1:12.5").
 std::string FormatLapTime(double seconds);
 
-// Lap time, average speed [km/h], energy used [MJ] and % of the pack, top speed [km/h], the
+// Lap time, average speed [km/h], energy used [MJ] and % of the pack, top and start speed [km/h], the
 // re-simulation's lap-time and largest state difference [%], converged, and the
 // kReportedSensitivities largest finite design sensitivities (lap time per 1 % more of a bike
 // value).

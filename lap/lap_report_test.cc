@@ -26,6 +26,7 @@ class LapReportFigures : public ::testing::Test {
     f.energy_used = 5.1e5;
     f.energy_fraction = 0.01;
     f.top_speed = 25.0;
+    f.start_speed = 5.0;
     resim.passed = true;
     resim.lap_time = 10.039;
     resim.lap_time_difference = -0.001;
@@ -46,7 +47,7 @@ TEST_F(LapReportFigures, TextInHumanUnits) {
   EXPECT_NE(text.find("0:10.0"), std::string::npos) << text;
   EXPECT_NE(text.find("72.0 km/h"), std::string::npos) << text;
   EXPECT_NE(text.find("0.51 MJ (1.0 % of the pack)"), std::string::npos) << text;
-  EXPECT_NE(text.find("90.0 km/h"), std::string::npos) << text;
+  EXPECT_NE(text.find("top speed      90.0 km/h\nstart speed    18.0 km/h\n"), std::string::npos) << text;
   EXPECT_NE(text.find("re-simulation  lap time differs by 0.01 %, states by 0.025 % (V at s = 123 m)\n"), std::string::npos) << text;
   EXPECT_NE(text.find("converged      yes"), std::string::npos) << text;
 }
@@ -73,6 +74,7 @@ TEST_F(LapReportFigures, JsonInSiUnitsWithNullForNonFinite) {
   EXPECT_EQ(json.front(), '{');
   EXPECT_EQ(json.substr(json.size() - 2), "}\n");
   EXPECT_NE(json.find("\"lap_time\": 10.04,"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"start_speed\": 5,"), std::string::npos) << json;
   EXPECT_NE(json.find("\"max_residual\": null"), std::string::npos) << json;
   EXPECT_NE(json.find("\"message\": \"say \\\"why\\\"\""), std::string::npos) << json;
   EXPECT_NE(json.find("\"converged\": false"), std::string::npos) << json;
