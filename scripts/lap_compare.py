@@ -41,9 +41,7 @@ def read_lap(path):
         t, V = lap.data("t", s.size), lap.data("state/V", s.size)
         if s.size < 2 or not (np.all(np.diff(s) > 0) and np.all(np.diff(t) > 0)):
             raise ttz_h5.InputError(path, "'s' and 't' must increase from node to node")
-        if not np.all(np.isfinite(V)):
-            raise ttz_h5.InputError(path, "dataset 'state/V' has non-finite values")
-        return {"path": path, "s": s, "t": t, "V": V,
+        return {"path": path, "s": s, "t": t, "V": ttz_h5.require_finite(path, "state/V", V),
                 "road_sha256": lap.optional_attr("road_sha256", str, ""),
                 "road_length": lap.attr("road_length")}
     finally:

@@ -85,8 +85,7 @@ def read_lap(path):
         s = lap.data("s")
         channels = {name: lap.data(name, s.size) for name in CHANNELS}
         for name, values in channels.items():
-            if not np.all(np.isfinite(values)):
-                raise ttz_h5.InputError(path, f"dataset '{name}' has non-finite values")
+            ttz_h5.require_finite(path, name, values)
         attrs = {name: lap.attr(name) for name in
                  ("lap_time", "energy_used", "energy_fraction", "road_length")}
         attrs["converged"] = lap.attr("converged", int)

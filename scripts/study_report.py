@@ -264,8 +264,7 @@ def read_point(path, channels):
                 raise ttz_h5.InputError(path, "dataset 't' is empty")
             data = {name: lap.data(name, t.size) for name in LAP_CHANNELS}
             for name, values in (("t", t), *data.items()):
-                if not np.all(np.isfinite(values)):
-                    raise ttz_h5.InputError(path, f"dataset '{name}' has non-finite values")
+                ttz_h5.require_finite(path, name, values)
             point.accel_120 = accel_time(t, data["state/V"])
             point.efficiency = powertrain_efficiency(t, data["wheel/power"], data["battery/power"])
             point.current_limited = binding_share(t, data["constraint/motor_current"])

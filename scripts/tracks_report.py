@@ -78,8 +78,7 @@ def read_circuit(lap_path):
     road_path = os.path.join(folder, "road.h5")
     road = lap_plots.read_road(road_path, row["road_length"], ("s", "z", "kappa"))
     for name in ("z", "kappa"):
-        if not np.all(np.isfinite(road[name])):
-            raise ttz_h5.InputError(road_path, f"dataset '{name}' has non-finite values")
+        ttz_h5.require_finite(road_path, name, road[name])
     row.update(name=os.path.basename(folder), z_range=float(np.ptp(road["z"])),
                kappa_max=float(np.max(np.abs(road["kappa"]))))
     return row

@@ -129,6 +129,13 @@ class Artefact:
         return self.attr(name, kind) if name in self.h5.attrs else default
 
 
+def require_finite(path, name, values):
+    """`values` (dataset `name` of the file at `path`), or InputError when any is not finite."""
+    if not np.all(np.isfinite(values)):
+        raise InputError(path, f"dataset '{name}' has non-finite values")
+    return values
+
+
 def open_lap(path):
     """lap.h5 (schema ttz.lap)."""
     return Artefact(path, LAP_SCHEMA, LAP_VERSIONS)
