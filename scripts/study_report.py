@@ -544,23 +544,25 @@ GAIN_ROWS = 3
 
 
 def gear_gain(points, ref_gear):
-    """(A, B, comparison) of lap_compare for the reference gear's lap (A) and the optimum's (B),
-    when both converged and differ; else None."""
+    """{"gears": (reference, optimum), "a", "b": their laps (lap_compare.read_lap), "result":
+    lap_compare.compare's} when the optimum and the reference gear's point both converged and
+    differ; else None."""
     opt = best(points)
     ref = find(points, lambda p: is_reference_gear(p, ref_gear))
     if ref is None or opt is ref or not (ref.converged and opt.converged):
         return None
     a, b = lap_compare.read_lap(ref.path), lap_compare.read_lap(opt.path)
     lap_compare.check_same_road(a, b)
-    return a, b, lap_compare.compare(a, b, GAIN_SEGMENT_M, GAIN_ROWS)
+    return {"gears": (ref.gear, opt.gear), "a": a, "b": b,
+            "result": lap_compare.compare(a, b, GAIN_SEGMENT_M, GAIN_ROWS)}
 
 
-def gain_lines(points, ref_gear, compared):
+def gain_lines(compared):
     """The segments where the optimum gains most on the reference gear (`compared`: gear_gain's)."""
     if compared is None:
         return []
-    result = compared[2]
-    lines = [f"Where gear {best(points).gear:g} gains its {-result['difference_s']:.1f} s on gear "
+    (ref_gear, opt_gear), result = compared["gears"], compared["result"]
+    lines = [f"Where gear {opt_gear:g} gains its {-result['difference_s']:.1f} s on gear "
              f"{ref_gear:g} (gear_gain.png; `scripts/lap_compare.py`), the "
              f"{GAIN_SEGMENT_M / 1e3:g} km segments of the largest gains:", ""]
     lines += [f"- km {p['from_m'] / 1e3:g}-{p['to_m'] / 1e3:g}: {p['delta_s']:+.2f} s, "
@@ -621,7 +623,7 @@ def gear_section(points, ref_gear, compared=None):
     lines = [f"## Gear ratio (Fig. 12): {len(points)} points, gear {min(p.gear for p in points):g}"
              f" to {max(p.gear for p in points):g}", ""]
     lines += table(["quantity", "paper", "ours", "difference"], rows) + [""]
-    lines += gain_lines(points, ref_gear, compared)
+    lines += gain_lines(compared)
     lines += status_lines(points) + point_rows(points, "gear") + [""]
     summary = f"gear: optimum {opt.gear:g}{flag(opt)} (lap {lap_text(opt.lap_time)})"
     summary += (f", gain over {ref_gear:g} {gain:.1f} s" if ref
@@ -1016,9 +1018,8 @@ def main():
     if "gear" in studies:
         builders["fig12_gear.png"] = lambda: gear_figure(plt, studies["gear"], args.reference_gear)
     if compared is not None:
-        opt_gear = best(studies["gear"]).gear
         builders["gear_gain.png"] = lambda: lap_compare.delta_figure(
-            plt, compared[0], compared[1], (f"gear {args.reference_gear:g}", f"gear {opt_gear:g}"))
+            plt, compared["a"], compared["b"], tuple(f"gear {gear:g}" for gear in compared["gears"]))
     if "battery" in studies:
         builders["fig14_battery.png"] = lambda: battery_figure(plt, studies["battery"],
                                                                args.reference_pack_mj)
