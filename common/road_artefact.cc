@@ -25,10 +25,13 @@ const ChannelSpec kAlongS[] = {
     {"z", &RoadArtefact::z, "m", "centre line elevation"},
     {"theta", &RoadArtefact::theta, "rad", "heading from east, counter-clockwise, unwrapped"},
     {"sigma", &RoadArtefact::sigma, "rad", "slope, positive uphill: dz/ds = sin(sigma)"},
+    {"banking", &RoadArtefact::banking, "rad", "banking xi (eq. 2), positive when the left border is the higher"},
     {"width", &RoadArtefact::width, "m", "road width r_w, border to border"},
-    {"kappa", &RoadArtefact::kappa, "1/m", "in-plane curvature cos(sigma) dtheta/ds, positive turning left (eq. 12)"},
-    {"nu", &RoadArtefact::nu, "1/m", "vertical curvature dsigma/ds, positive in a dip (eq. 12)"},
-    {"tau", &RoadArtefact::tau, "1/m", "torsion sin(sigma) dtheta/ds (eq. 12)"},
+    {"kappa", &RoadArtefact::kappa, "1/m",
+     "in-plane curvature cos(xi) cos(sigma) dtheta/ds + sin(xi) dsigma/ds, positive turning left (eq. 12)"},
+    {"nu", &RoadArtefact::nu, "1/m",
+     "normal curvature cos(xi) dsigma/ds - sin(xi) cos(sigma) dtheta/ds, positive in a dip (eq. 12)"},
+    {"tau", &RoadArtefact::tau, "1/m", "torsion sin(sigma) dtheta/ds + dxi/ds (eq. 12)"},
     {"left/x", &RoadArtefact::left_x, "m", "left border, east"},
     {"left/y", &RoadArtefact::left_y, "m", "left border, north"},
     {"right/x", &RoadArtefact::right_x, "m", "right border, east"},
@@ -87,9 +90,11 @@ void WriteRoad(const std::string& path, const RoadArtefact& road) {
 }
 
 RoadArtefact ReadRoad(const std::string& path) {
-  ArtefactReader r(path, kRoadSchema, kRoadSchemaVersion);
+  ArtefactReader r(path, kRoadSchema, kRoadSchemaVersion, kRoadOldestSchemaVersion);
   RoadArtefact road;
-  for (const auto& c : kAlongS) road.*c.member = r.ReadVector(c.name, c.units);
+  for (const auto& c : kAlongS)
+    if (c.member != &RoadArtefact::banking || r.schema_version() > 1) road.*c.member = r.ReadVector(c.name, c.units);
+  if (r.schema_version() == 1) road.banking.assign(road.s.size(), 0.0);  // version 1: no banking
   if (r.HasDataset("centre/lat"))
     for (const auto& c : kGeographic) road.*c.member = r.ReadVector(c.name, c.units);
   for (const auto& c : kPoints) road.*c.member = r.ReadVector(c.name, c.units);

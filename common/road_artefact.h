@@ -1,4 +1,5 @@
-// road.h5: the fitted road on a uniform arc-length grid (schema "ttz.road", version 1).
+// road.h5: the fitted road on a uniform arc-length grid (schema "ttz.road", version 2; version 1,
+// which had no banking, is read as a road level across).
 //
 // Written by road_fit, read by lap. Every dataset, unit and sign convention is documented in
 // docs/road_h5.md; this struct is its in-memory form.
@@ -10,7 +11,8 @@
 namespace ttz {
 
 inline constexpr const char* kRoadSchema = "ttz.road";
-inline constexpr int kRoadSchemaVersion = 1;
+inline constexpr int kRoadSchemaVersion = 2;
+inline constexpr int kRoadOldestSchemaVersion = 1;  // no `banking` dataset: read as zero
 
 struct RoadArtefact {
   // Along the centre line, uniform in s.
@@ -19,10 +21,12 @@ struct RoadArtefact {
   std::vector<double> z;      // elevation [m]
   std::vector<double> theta;  // heading from east, counter-clockwise [rad] (continuous, unwrapped)
   std::vector<double> sigma;  // slope [rad], positive uphill (dz/ds = sin sigma)
+  std::vector<double> banking;  // xi of eq. 2 [rad], positive when the left border is the higher
   std::vector<double> width;  // r_w, border to border [m]
-  std::vector<double> kappa;  // cos(sigma) dtheta/ds [1/m], positive turning left (eq. 12)
-  std::vector<double> nu;     // dsigma/ds [1/m] (eq. 12)
-  std::vector<double> tau;    // sin(sigma) dtheta/ds [1/m] (eq. 12)
+  // The road frame's angular velocity per metre (forward, left, up) = (tau, -nu, kappa), eq. 12:
+  std::vector<double> kappa;  // cos(xi) cos(sigma) dtheta/ds + sin(xi) dsigma/ds [1/m], positive turning left
+  std::vector<double> nu;     // cos(xi) dsigma/ds - sin(xi) cos(sigma) dtheta/ds [1/m]
+  std::vector<double> tau;    // sin(sigma) dtheta/ds + dxi/ds [1/m]
   // Geographic coordinates (empty when the input was in local metres).
   std::vector<double> centre_lat, centre_lon, left_lat, left_lon, right_lat, right_lon;  // [deg]
   std::vector<double> left_x, left_y, right_x, right_y;  // borders in the local frame [m]

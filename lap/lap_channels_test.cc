@@ -23,7 +23,7 @@ RoadTrack LeftCircle() {
   for (int i = 0; i <= 60; ++i) {
     r.s.push_back(i);
     r.kappa.push_back(1.0 / kRadius);
-    for (auto* f : {&r.nu, &r.tau, &r.sigma}) f->push_back(0.0);
+    for (auto* f : {&r.nu, &r.tau, &r.sigma, &r.banking}) f->push_back(0.0);
     r.width.push_back(8.0);
   }
   return RoadTrack(r);

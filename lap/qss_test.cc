@@ -124,6 +124,28 @@ TEST(QssFlyingStartTest, OnACircleItIsTheSteadyCorneringSpeed) {
   EXPECT_LT(q.lap_time, ComputeQss(v, road, mesh).lap_time);
 }
 
+// Banked with the outer border the higher, the same circle is taken faster, as a point mass on a
+// bank with the QSS's adherence (0.95 mu_y, lap/qss.cc): V^2 = g R (sin b + mu cos b) / (cos b - mu sin b).
+TEST(QssFlyingStartTest, ABankedCircleIsTakenFasterAsAPointMassOnABank) {
+  const Vehicle v = Bx15();
+  constexpr double kRadius = 50.0, kBank = 0.2;
+  const auto speed = [&](double xi) {
+    const RoadTrack road{testing::SyntheticRoad(2.0 * M_PI * kRadius, 8.0, [=](double) { return 1.0 / kRadius; },
+                                                testing::Zero, [=](double) { return xi; })};
+    bool settled = false;
+    const double V = PeriodicQssSpeed(v, road, UniformMesh(road.Length(), 4.0), &settled);
+    EXPECT_TRUE(settled) << xi;
+    return V;
+  };
+  const double mu = 0.95 * v.mu_y;
+  const double point_mass =
+      std::sqrt((std::sin(kBank) + mu * std::cos(kBank)) / ((std::cos(kBank) - mu * std::sin(kBank)) * mu));
+  const double ratio = speed(-kBank) / speed(0.0);  // a left circle: xi < 0 raises its outer border
+  std::cout << "banked " << kBank << " rad: " << ratio << " times the level circle's speed (point mass "
+            << point_mass << ")\n";
+  EXPECT_NEAR(ratio, point_mass, 1e-3 * point_mass);  // measured 1.3e-4
+}
+
 // On a road that never brakes (a 50 m straight, taken as closed) every pass ends faster than it
 // started, towards the bike's top speed, and PeriodicQssSpeed says it did not settle in its 20
 // passes (on a 300 m straight they reach the top speed, 60.94 m/s, and settle).

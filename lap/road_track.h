@@ -25,7 +25,7 @@ class RoadTrack {
 
  private:
   double Sample(const std::vector<double>& f, double s, double* derivative) const;
-  std::vector<double> kappa_, nu_, tau_, sigma_, width_;
+  std::vector<double> kappa_, nu_, tau_, sigma_, xi_, width_;
   double ds_ = 1.0, length_ = 0.0;
   bool closed_ = false;
 };

@@ -1,4 +1,6 @@
 // The CSV forms of road input: border points, border pairs and centre lines.
+#include <algorithm>
+#include <cmath>
 #include <optional>
 
 #include "common/csv.h"
@@ -16,7 +18,10 @@ const std::vector<std::string> kElevation = {"elevation", "elev", "elev_m", "alt
 const std::vector<std::string> kX = {"x", "x_m"};
 const std::vector<std::string> kY = {"y", "y_m"};
 const std::vector<std::string> kWidth = {"width", "width_m", "w"};
-const std::vector<std::string> kBanking = {"banking", "banking_rad", "banking_deg", "bank", "bank_rad", "bank_deg"};
+const std::vector<std::string> kBanking = {"banking", "bank"};  // without a unit: refused
+const std::vector<std::string> kBankingRad = {"banking_rad", "bank_rad"};
+const std::vector<std::string> kBankingDeg = {"banking_deg", "bank_deg"};
+constexpr double kMaxBankingDeg = 45.0;
 
 struct Columns {
   int u = -1, v = -1, z = -1;
@@ -81,6 +86,31 @@ std::optional<RawInput> BorderPairs(const CsvTable& t) {
   return std::nullopt;
 }
 
+// A centre line's banking column, in radians or degrees by its name's suffix; -1 when none.
+struct BankingColumn {
+  int column = -1;
+  double to_rad = 1.0;
+};
+
+BankingColumn FindBanking(const CsvTable& t) {
+  const int bare = t.FindColumn(kBanking);
+  if (bare >= 0)
+    throw InputError(t.file + ": column '" + t.header[bare] + "'",
+                     "banking without a unit: name it banking_rad or banking_deg");
+  if (const int rad = t.FindColumn(kBankingRad); rad >= 0) return {rad, 1.0};
+  if (const int deg = t.FindColumn(kBankingDeg); deg >= 0) return {deg, M_PI / 180.0};
+  return {};
+}
+
+// Row's banking [rad]; refused beyond kMaxBankingDeg (Talladega's, among the steepest, is 33 deg).
+double Banking(const CsvTable& t, size_t row, const BankingColumn& c) {
+  const double xi = t.Number(row, c.column) * c.to_rad;
+  if (!(std::abs(xi) <= kMaxBankingDeg * M_PI / 180.0))
+    throw InputError(Where(t.file, t.lines[row]) + ": column '" + t.header[c.column] + "'",
+                     "banking " + t.Cell(row, c.column) + " is not within +-45 deg");
+  return xi;
+}
+
 RawInput CentreLine(const CsvTable& t) {
   RawInput in;
   in.format = "centre-line";
@@ -94,22 +124,24 @@ RawInput CentreLine(const CsvTable& t) {
   }
   const int width = t.FindColumn(kWidth);
   const int w_right = t.FindColumn({"w_tr_right_m"}), w_left = t.FindColumn({"w_tr_left_m"});
+  const BankingColumn banking = FindBanking(t);
   for (size_t row = 0; row < t.rows.size(); ++row) {
     RawPoint p = PointAt(t, row, *c, Side::kCentre);
     if (width >= 0) p.width = t.Number(row, width);
     else if (w_right >= 0 && w_left >= 0) p.width = t.Number(row, w_right) + t.Number(row, w_left);
+    if (banking.column >= 0) p.banking = Banking(t, row, banking);
     in.points.push_back(p);
   }
   return in;
 }
 
-// The ribbon has no banking (paper eq. 4-8: xi = 0, road_fit/ribbon.h): a banking column, which
-// the other extra columns are not, changes the road the file describes, so its user is told.
-void WarnOfBanking(const CsvTable& t) {
-  const int bank = t.FindColumn(kBanking);
+// A border form's banking column says less than its borders' elevations, which the fit follows.
+void WarnOfIgnoredBanking(const CsvTable& t) {
+  const int rad = t.FindColumn(kBankingRad), deg = t.FindColumn(kBankingDeg), bare = t.FindColumn(kBanking);
+  const int bank = std::max({rad, deg, bare});
   if (bank >= 0)
     Log(LogKind::kWarning, t.file + ": column '" + t.header[bank] +
-                               "' is ignored: the ribbon has no banking (paper eq. 4-8), so the road is fitted level across");
+                               "' is ignored: the banking of border points follows from their elevations");
 }
 
 // The points of the table in its form: border points (long form), border pairs or a centre line.
@@ -125,7 +157,7 @@ RawInput ReadCsvForm(const CsvTable& t) {
 RawInput ReadCsvForms(const std::string& path) {
   const CsvTable t = ReadCsv(path);
   RawInput in = ReadCsvForm(t);
-  WarnOfBanking(t);  // once the file has been read as one of the forms: not beside an error
+  if (in.format != "centre-line") WarnOfIgnoredBanking(t);  // once read as a form: not beside an error
   return in;
 }
 

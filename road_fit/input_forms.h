@@ -15,6 +15,7 @@ struct RawPoint {
   double v = 0.0;  // longitude [deg] (geographic) or y [m] (local)
   double z = std::nan("");      // elevation [m], NaN when the input has none
   double width = std::nan("");  // centre forms only [m]
+  double banking = std::nan("");  // centre forms only [rad], NaN when the input has none
   long line = 0;
 };
 

@@ -42,6 +42,8 @@ void DefineOptions(CLI::App& app, Arguments& a) {
                  "elevation for points without it: a raster GDAL reads, or a polyline CSV lat,lon,elevation");
   app.add_option("--width", a.read.width_m, "road width [m] for centre lines without a width column")
       ->check(ttz::kPositiveNumber);
+  app.add_flag("--level", a.fit.level,
+               "fit the road level across (banking 0, as the paper) even when the input gives its banking");
   app.add_flag("--robust", a.fit.robust,
                "keep far outliers and absorb them with a Cauchy loss instead of rejecting the input");
   app.add_flag("-q,--quiet", a.quiet, "print warnings and errors only");

@@ -3,7 +3,10 @@
 // Conventions (see docs/road_h5.md): local frame x east, y north, z up (metres); heading theta
 // from east counter-clockwise; slope sigma positive uphill, dz/ds = sin(sigma). The paper's frame
 // has z pointing down, hence its dz/dzeta = -sin(sigma) (eq. 8d); ours is the same road with z up.
-// Banking is zero (paper: xi = 0).
+// Banking xi is the third angle of eq. 2, T = R_z(theta) R_y(sigma) R_x(xi), which the paper sets
+// to zero for want of data: here it is a state like sigma, with its rate and control, positive when
+// the left border is the higher (the same sign in the paper's z-down frame). Inputs that do
+// not carry it (RoadInput::carries_banking) hold it at zero (ribbon_fit.cc), as does --level.
 #pragma once
 
 #include <array>
@@ -22,6 +25,8 @@ enum RibbonState : int {
   kSigmaHat,      // sigma-hat = dsigma/ds [1/m]
   kWidth,         // r_w [m]
   kS,             // curvilinear abscissa s [m]
+  kXi,            // banking xi [rad], positive when the left border is the higher
+  kXiHat,         // xi-hat = dxi/ds [1/m]
   kNumRibbonStates
 };
 
@@ -34,10 +39,12 @@ enum RibbonControl : int {
   kUSigma,      // u_sigma = d(sigma-hat)/dzeta [1/m^2]
   kUWidth,      // u_w = dr_w/dzeta [1]
   kUS,          // u_s: ds/dzeta = 1 + u_s [1]
+  kUXi,         // u_xi = d(xi-hat)/dzeta [1/m^2]
   kNumRibbonControls
 };
 
-// dx/dzeta = g(x, u), eq. 8a-8e (with z up: dz/dzeta = +sin(sigma)(1 + u_s)).
+// dx/dzeta = g(x, u), eq. 8a-8e (with z up: dz/dzeta = +sin(sigma)(1 + u_s)); xi follows the
+// pattern of sigma.
 template <typename T>
 void RibbonDerivative(const T* x, const T* u, T* dx_dzeta) {
   using std::cos;
@@ -52,9 +59,11 @@ void RibbonDerivative(const T* x, const T* u, T* dx_dzeta) {
   dx_dzeta[kSigmaHat] = u[kUSigma];
   dx_dzeta[kWidth] = u[kUWidth];  // eq. 8c
   dx_dzeta[kS] = stretch;         // eq. 8e
+  dx_dzeta[kXi] = x[kXiHat] * stretch;
+  dx_dzeta[kXiHat] = u[kUXi];
 }
 
-// Lateral unit vector pointing to the left of the heading, in the x-y plane (no banking).
+// Horizontal unit vector pointing to the left of the heading, in the x-y plane.
 template <typename T>
 void LeftNormal(const T& theta, T* lx, T* ly) {
   using std::cos;
@@ -63,16 +72,39 @@ void LeftNormal(const T& theta, T* lx, T* ly) {
   *ly = cos(theta);
 }
 
-// Road-frame curvatures of eq. 12 in our z-up convention, from heading rate and slope:
-// kappa = cos(sigma) dtheta/ds (positive turning left), nu = dsigma/ds (positive where the slope
-// increases, a dip), tau = sin(sigma) dtheta/ds.
+// The road's lateral unit vector, to the left across the (banked) road surface: the second column
+// of T (eq. 2), cos(xi) times the horizontal left normal plus sin(xi) times the road's normal at
+// zero banking, (-sin(sigma) cos(theta), -sin(sigma) sin(theta), cos(sigma)).
+template <typename T>
+void LeftAcross(const T& theta, const T& sigma, const T& xi, T* l) {
+  using std::cos;
+  using std::sin;
+  l[0] = -cos(xi) * sin(theta) - sin(xi) * sin(sigma) * cos(theta);
+  l[1] = cos(xi) * cos(theta) - sin(xi) * sin(sigma) * sin(theta);
+  l[2] = sin(xi) * cos(sigma);
+}
+
+// Road-frame curvatures of eq. 12 in our z-up convention: the angular velocity per metre of
+// T = R_z(theta) R_y(-sigma) R_x(xi) in its own (forward, left, up) axes is (tau, -nu, kappa), with
+// kappa = cos(xi) cos(sigma) theta' + sin(xi) sigma' (positive turning left),
+// nu = cos(xi) sigma' - sin(xi) cos(sigma) theta' (positive in a dip) and
+// tau = sin(sigma) theta' + xi'. At xi = 0: kappa = cos(sigma) theta', nu = sigma'.
 struct RibbonCurvatures {
   double kappa;
   double nu;
   double tau;
 };
-inline RibbonCurvatures Curvatures(double sigma, double theta_hat, double sigma_hat) {
-  return {std::cos(sigma) * theta_hat, sigma_hat, std::sin(sigma) * theta_hat};
+inline RibbonCurvatures Curvatures(double sigma, double xi, double theta_hat, double sigma_hat, double xi_hat) {
+  const double turn = std::cos(sigma) * theta_hat;  // the heading's rate about the vertical, tilted by sigma
+  return {std::cos(xi) * turn + std::sin(xi) * sigma_hat, std::cos(xi) * sigma_hat - std::sin(xi) * turn,
+          std::sin(sigma) * theta_hat + xi_hat};
+}
+
+// The inverse of Curvatures for theta' and sigma', given xi, sigma and kappa, nu.
+inline void HeadingAndSlopeRates(double sigma, double xi, double kappa, double nu, double* theta_hat,
+                                 double* sigma_hat) {
+  *theta_hat = (std::cos(xi) * kappa - std::sin(xi) * nu) / std::cos(sigma);
+  *sigma_hat = std::sin(xi) * kappa + std::cos(xi) * nu;
 }
 
 }  // namespace ttz::road

@@ -2,7 +2,7 @@
 //
 // Each functor is one term: the collocation defect of the dynamics (eq. 8), the control penalty
 // U(u) (eq. 6b), the distance of a measured point to the ribbon's border (eq. 6a, 7), a measured
-// width, and the closure of a circuit.
+// width or banking, and the closure of a circuit.
 #pragma once
 
 #include <array>
@@ -50,17 +50,18 @@ struct ControlEffort {
 };
 
 // Side of the ribbon a measured point lies on: +1 left border, -1 right border, 0 centre line.
-// Eq. 7 places the borders at +- r_w/2 along the left normal.
+// Eq. 7 places the borders at +- r_w/2 across the road: along the horizontal left normal when the
+// banking is zero (the paper's), along the banked surface's lateral axis (LeftAcross) otherwise.
 template <typename T>
 void RibbonPoint(const T* x0, const T* x1, double t, double side, T* p) {
   T x[kNumRibbonStates];
   for (int j = 0; j < kNumRibbonStates; ++j) x[j] = (T(1.0) - T(t)) * x0[j] + T(t) * x1[j];
-  T lx, ly;
-  LeftNormal(x[kTheta], &lx, &ly);
+  T l[3];
+  LeftAcross(x[kTheta], x[kSigma], x[kXi], l);
   const T half = T(0.5 * side) * x[kWidth];
-  p[0] = x[kX] + half * lx;
-  p[1] = x[kY] + half * ly;
-  p[2] = x[kZ];
+  p[0] = x[kX] + half * l[0];
+  p[1] = x[kY] + half * l[1];
+  p[2] = x[kZ] + half * l[2];
 }
 
 // Distance of a measured point to the ribbon point at fraction t of the interval (eq. 6a), in the
@@ -103,16 +104,32 @@ struct WidthObservation {
   double t, w, sigma;
 };
 
+// A measured banking (centre-line inputs) against xi at fraction t of the interval.
+struct BankingObservation {
+  BankingObservation(double t, double banking_rad, double sigma_rad) : t(t), xi(banking_rad), sigma(sigma_rad) {}
+
+  template <typename T>
+  bool operator()(const T* x0, const T* x1, T* r) const {
+    r[0] = ((T(1.0) - T(t)) * x0[kXi] + T(t) * x1[kXi] - T(xi)) / T(sigma);
+    return true;
+  }
+
+  double t, xi, sigma;
+};
+
 // A closed circuit ends where it starts: every state but s equal at both ends, the heading after
 // `turns` full turns (mod 2 pi), each difference over its tolerance.
 struct Closure {
+  static constexpr int kNumResiduals = kNumRibbonStates - 1;  // all but s
+
   Closure(double turns, const RibbonScales& tolerance) : turns(turns), tol(tolerance) {}
 
   template <typename T>
   bool operator()(const T* first, const T* last, T* r) const {
-    for (int j = 0; j < kS; ++j) {
+    for (int j = 0, i = 0; j < kNumRibbonStates; ++j) {
+      if (j == kS) continue;
       const double offset = j == kTheta ? 2.0 * M_PI * turns : 0.0;
-      r[j] = (last[j] - first[j] - T(offset)) / T(tol[j]);
+      r[i++] = (last[j] - first[j] - T(offset)) / T(tol[j]);
     }
     return true;
   }

@@ -55,6 +55,22 @@ class ProgressCallback : public ceres::IterationCallback {
   Progress* progress_;
 };
 
+// Holds s(0) = 0 (eq. 4c) and, when `level`, the banking states and control at zero.
+void SetManifolds(bool level, Ribbon* ribbon, ceres::Problem* problem) {
+  const std::vector<int> banking = {kXi, kXiHat};
+  for (size_t k = 0; k < ribbon->x.size(); ++k) {
+    std::vector<int> held = level ? banking : std::vector<int>{};
+    if (k == 0) held.push_back(kS);
+    if (level) ribbon->x[k][kXi] = ribbon->x[k][kXiHat] = 0.0;
+    if (!held.empty()) problem->SetManifold(ribbon->x[k].data(), new ceres::SubsetManifold(kNumRibbonStates, held));
+  }
+  if (!level) return;
+  for (auto& u : ribbon->u) {
+    u[kUXi] = 0.0;
+    problem->SetManifold(u.data(), new ceres::SubsetManifold(kNumRibbonControls, {kUXi}));
+  }
+}
+
 void AddDynamicsAndSmoothness(const FitOptions& options, Ribbon* ribbon, ceres::Problem* problem) {
   const long n = static_cast<long>(ribbon->u.size());
   for (long k = 0; k < n; ++k) {
@@ -72,10 +88,10 @@ void AddDynamicsAndSmoothness(const FitOptions& options, Ribbon* ribbon, ceres::
     RibbonScales closure_tol = options.defect_tolerance;  // per metre -> absolute, over one node spacing
     for (double& t : closure_tol) t *= ribbon->h;
     problem->AddResidualBlock(
-        new ceres::AutoDiffCostFunction<Closure, kS, kNumRibbonStates, kNumRibbonStates>(new Closure(turns, closure_tol)),
+        new ceres::AutoDiffCostFunction<Closure, Closure::kNumResiduals, kNumRibbonStates, kNumRibbonStates>(
+            new Closure(turns, closure_tol)),
         nullptr, ribbon->x[0].data(), ribbon->x[n].data());
   }
-  problem->SetManifold(ribbon->x[0].data(), new ceres::SubsetManifold(kNumRibbonStates, {kS}));  // s(0) = 0, eq. 4c
 }
 
 void AddObservations(const RoadInput& input, const std::vector<Station>& stations, const FitOptions& options,
@@ -95,6 +111,10 @@ void AddObservations(const RoadInput& input, const std::vector<Station>& station
       problem->AddResidualBlock(new ceres::AutoDiffCostFunction<WidthObservation, 1, kNumRibbonStates, kNumRibbonStates>(
                                     new WidthObservation(st.t, o.width_m, options.sigma_width_m)),
                                 nullptr, x0, x1);
+    if (std::isfinite(o.banking_rad))
+      problem->AddResidualBlock(new ceres::AutoDiffCostFunction<BankingObservation, 1, kNumRibbonStates, kNumRibbonStates>(
+                                    new BankingObservation(st.t, o.banking_rad, options.sigma_banking_rad)),
+                                nullptr, x0, x1);
   }
 }
 
@@ -103,6 +123,8 @@ ceres::Solver::Summary SolvePass(const RoadInput& input, const std::vector<Stati
   ceres::Problem problem;
   AddDynamicsAndSmoothness(options, ribbon, &problem);
   AddObservations(input, stations, options, ribbon, &problem);
+  // Without banking data xi would be a free constant (or fitted to noise): it is held at zero.
+  SetManifolds(options.level || !input.carries_banking, ribbon, &problem);
   ceres::Solver::Options solver;
   solver.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;  // CHOLMOD: faster here than Eigen's
                                                                // (docs/lap_log.md "Eigen's sparse Cholesky")
@@ -132,7 +154,7 @@ void MaxDefects(const Ribbon& ribbon, FitSummary* summary) {
     double r[kNumRibbonStates];
     defect(ribbon.x[k].data(), ribbon.x[k + 1].data(), ribbon.u[k].data(), r);
     for (int j : {kX, kY, kZ}) summary->max_defect_position_m = std::max(summary->max_defect_position_m, std::abs(r[j]));
-    for (int j : {kTheta, kSigma}) summary->max_defect_angle_rad = std::max(summary->max_defect_angle_rad, std::abs(r[j]));
+    for (int j : {kTheta, kSigma, kXi}) summary->max_defect_angle_rad = std::max(summary->max_defect_angle_rad, std::abs(r[j]));
   }
 }
 
@@ -166,9 +188,8 @@ void SetControlsFromStates(Ribbon* ribbon) {
   for (size_t k = 0; k < ribbon->u.size(); ++k) {
     const auto& a = ribbon->x[k];
     const auto& b = ribbon->x[k + 1];
-    ribbon->u[k] = {(b[kThetaHat] - a[kThetaHat]) / ribbon->h,
-                    (b[kSigmaHat] - a[kSigmaHat]) / ribbon->h, (b[kWidth] - a[kWidth]) / ribbon->h,
-                    0.0};
+    ribbon->u[k] = {(b[kThetaHat] - a[kThetaHat]) / ribbon->h, (b[kSigmaHat] - a[kSigmaHat]) / ribbon->h,
+                    (b[kWidth] - a[kWidth]) / ribbon->h, 0.0, (b[kXiHat] - a[kXiHat]) / ribbon->h};
   }
 }
 

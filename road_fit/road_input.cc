@@ -43,6 +43,7 @@ std::vector<Observation> ToLocal(const RawInput& in, const std::optional<LocalFr
     o.y_m = xy.y_m;
     o.z_m = std::isnan(p.z) ? 0.0 : p.z;
     o.width_m = p.width;
+    o.banking_rad = p.banking;
     o.line = p.line;
     out.push_back(o);
   }
@@ -138,6 +139,10 @@ RoadInput ReadRoadInput(const std::string& path, const ReadOptions& options) {
     Log(LogKind::kWarning, path + ": has its own elevation; --elevation " + options.elevation_source + " is ignored");
   if (!has_z && !options.elevation_source.empty()) AttachElevation(options.elevation_source, path, input.frame, &input.points);
   input.has_elevation = has_z || !options.elevation_source.empty();
+  const bool borders = raw.format == "border-points" || raw.format == "border-pairs";
+  input.carries_banking = (borders && has_z) || std::any_of(input.points.begin(), input.points.end(), [](const Observation& o) {
+                            return std::isfinite(o.banking_rad);
+                          });
   if (!input.has_elevation) Log(LogKind::kWarning, path + ": no elevation; the road is flat (give --elevation)");
   CheckElevation(path, input.points);
   return input;

@@ -23,6 +23,9 @@ struct Observation {
   double z_m = 0.0;
   // Road width at this point [m]; set on centre observations only (from the file or --width).
   double width_m = std::numeric_limits<double>::quiet_NaN();
+  // Banking xi at this point [rad], positive when the left border is the higher (road_fit/ribbon.h);
+  // centre observations of inputs with a banking column only, NaN otherwise.
+  double banking_rad = std::numeric_limits<double>::quiet_NaN();
   long line = 0;  // 1-based line (or feature vertex index for GDAL layers) of the input it came from
 };
 
@@ -35,6 +38,9 @@ struct RoadInput {
   // Set when the input was geographic (lat/lon): the local frame the points are expressed in.
   std::optional<LocalFrame> frame;
   bool has_elevation = false;  // false: z_m is 0 (flat road, a warning was logged)
+  // The input says how the road is banked: a banking column, or border points with their own
+  // elevations (not attached from --elevation, whose models are too coarse across a road).
+  bool carries_banking = false;
 };
 
 struct ReadOptions {

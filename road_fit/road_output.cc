@@ -57,16 +57,18 @@ RoadArtefact MakeRoadArtefact(const RoadInput& input, const RoadProfile& profile
   road.theta = profile.theta;
   road.sigma = profile.sigma;
   road.width = profile.width;
+  road.banking = profile.banking;
   road.kappa = profile.kappa;
   road.nu = profile.nu;
   road.tau = profile.tau;
-  for (size_t i = 0; i < profile.s.size(); ++i) {  // eq. 7: borders at +- r_w/2 along the left normal
+  for (size_t i = 0; i < profile.s.size(); ++i) {  // eq. 7: borders at +- r_w/2 across the road
     const double half = 0.5 * profile.width[i];
-    const double lx = -std::sin(profile.theta[i]), ly = std::cos(profile.theta[i]);
-    road.left_x.push_back(profile.x[i] + half * lx);
-    road.left_y.push_back(profile.y[i] + half * ly);
-    road.right_x.push_back(profile.x[i] - half * lx);
-    road.right_y.push_back(profile.y[i] - half * ly);
+    double l[3];
+    LeftAcross(profile.theta[i], profile.sigma[i], profile.banking[i], l);
+    road.left_x.push_back(profile.x[i] + half * l[0]);
+    road.left_y.push_back(profile.y[i] + half * l[1]);
+    road.right_x.push_back(profile.x[i] - half * l[0]);
+    road.right_y.push_back(profile.y[i] - half * l[1]);
   }
   if (input.frame) AddGeographic(*input.frame, &road);
   AddPointResiduals(summary, &road);
@@ -90,10 +92,11 @@ RoadArtefact MakeRoadArtefact(const RoadInput& input, const RoadProfile& profile
 }
 
 std::string FitReport(const RoadArtefact& road) {
-  size_t steepest = 0, tightest = 0;
+  size_t steepest = 0, tightest = 0, banked = 0;
   for (size_t i = 0; i < road.s.size(); ++i) {
     if (std::abs(road.sigma[i]) > std::abs(road.sigma[steepest])) steepest = i;
     if (std::abs(road.kappa[i]) > std::abs(road.kappa[tightest])) tightest = i;
+    if (std::abs(road.banking[i]) > std::abs(road.banking[banked])) banked = i;
   }
   double zmin = road.z[0], zmax = road.z[0];
   for (double z : road.z) zmin = std::min(zmin, z), zmax = std::max(zmax, z);
@@ -104,13 +107,16 @@ std::string FitReport(const RoadArtefact& road) {
                 "elevation        %.1f to %.1f m (range %.1f m)\n"
                 "steepest slope   %.1f %% (%s) %s\n"
                 "tightest radius  %.1f m (%s) %s\n"
+                "largest banking  %.1f deg (%s higher) %s\n"
                 "largest defect   %.2e m, %.2e rad\n"
                 "solver           %s, %lld iterations, %.2f s\n",
                 road.length_m, road.closed ? "closed" : "open", road.point_s.size(), road.rms_distance_m,
                 road.max_distance_m, static_cast<long long>(road.max_distance_line), zmin, zmax, zmax - zmin,
                 100 * std::tan(road.sigma[steepest]), road.sigma[steepest] > 0 ? "uphill" : "downhill",
                 Place(road, steepest).c_str(), 1.0 / std::abs(road.kappa[tightest]),
-                road.kappa[tightest] > 0 ? "left" : "right", Place(road, tightest).c_str(), road.max_defect_position_m,
+                road.kappa[tightest] > 0 ? "left" : "right", Place(road, tightest).c_str(),
+                std::abs(road.banking[banked]) * 180.0 / M_PI, road.banking[banked] >= 0 ? "left" : "right",
+                Place(road, banked).c_str(), road.max_defect_position_m,
                 road.max_defect_angle_rad, road.converged ? "converged" : "NOT CONVERGED",
                 static_cast<long long>(road.iterations), road.solve_seconds);
   return text;

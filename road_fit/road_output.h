@@ -12,7 +12,7 @@ namespace ttz::road {
 RoadArtefact MakeRoadArtefact(const RoadInput& input, const RoadProfile& profile, const FitOptions& options,
                               const FitSummary& summary);
 
-// Lines for stdout: length, topology, distances to the input, steepest slope and tightest radius
+// Lines for stdout: length, topology, distances to the input, steepest slope, tightest radius, largest banking
 // with where they are, solver figures.
 std::string FitReport(const RoadArtefact& road);
 

@@ -31,7 +31,7 @@ State Integrate(State x, const std::array<double, kNumRibbonControls>& u, double
 }
 
 void Append(const State& x, double s, RoadProfile* p) {
-  const RibbonCurvatures c = Curvatures(x[kSigma], x[kThetaHat], x[kSigmaHat]);
+  const RibbonCurvatures c = Curvatures(x[kSigma], x[kXi], x[kThetaHat], x[kSigmaHat], x[kXiHat]);
   p->s.push_back(s);
   p->x.push_back(x[kX]);
   p->y.push_back(x[kY]);
@@ -39,6 +39,7 @@ void Append(const State& x, double s, RoadProfile* p) {
   p->theta.push_back(x[kTheta]);
   p->sigma.push_back(x[kSigma]);
   p->width.push_back(x[kWidth]);
+  p->banking.push_back(x[kXi]);
   p->kappa.push_back(c.kappa);
   p->nu.push_back(c.nu);
   p->tau.push_back(c.tau);
@@ -72,8 +73,11 @@ Ribbon RibbonFromProfile(const RoadProfile& p) {
   const size_t n = p.s.size();
   ribbon.x.resize(n);
   for (size_t k = 0; k < n; ++k) {
-    const double theta_hat = p.kappa[k] / std::cos(p.sigma[k]);  // inverse of eq. 12
-    ribbon.x[k] = {p.x[k], p.y[k], p.z[k], p.theta[k], p.sigma[k], theta_hat, p.nu[k], p.width[k], p.s[k]};
+    double theta_hat, sigma_hat;
+    HeadingAndSlopeRates(p.sigma[k], p.banking[k], p.kappa[k], p.nu[k], &theta_hat, &sigma_hat);  // eq. 12
+    const double xi_hat = p.tau[k] - std::sin(p.sigma[k]) * theta_hat;
+    ribbon.x[k] = {p.x[k], p.y[k],  p.z[k], p.theta[k], p.sigma[k], theta_hat, sigma_hat, p.width[k],
+                   p.s[k], p.banking[k], xi_hat};
   }
   SetControlsFromStates(&ribbon);
   return ribbon;

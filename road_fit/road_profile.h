@@ -11,6 +11,7 @@ struct RoadProfile {
   double ds_m = 1.0;  // spacing = length / round(length / requested spacing), so the grid ends at the length
   bool closed = false;
   std::vector<double> s, x, y, z, theta, sigma, width;  // [m], [m], [m], [m], [rad], [rad], [m]
+  std::vector<double> banking;                          // xi [rad]
   std::vector<double> kappa, nu, tau;                   // eq. 12 in our convention [1/m]
   double length() const { return s.back(); }
 };

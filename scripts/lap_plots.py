@@ -68,7 +68,8 @@ def read_road(path, lap_road_length, names=ROAD_CHANNELS):
     lap's road."""
     road = ttz_h5.open_road(path)
     s = road.data("s")
-    channels = {name: road.data(name, s.size) for name in names}
+    channels = {name: ttz_h5.road_banking(road, s.size) if name == "banking" else road.data(name, s.size)
+                for name in names}
     length = road.attr("length_m")
     if abs(length - lap_road_length) > ROAD_LENGTH_TOLERANCE_M:
         raise ttz_h5.InputError(path, f"road length {length:.1f} m is not the lap's road_length "

@@ -11,6 +11,7 @@ Columns:
   length            road length_m [km]
   elevation range   max - min of the road's z [m]
   tightest radius   1 / max |kappa| of the centre line [m]
+  largest banking   max |banking| [deg] (0 for a road level across, or a road.h5 of version 1)
   lap time          m:ss.s (lap_time)
   average speed     road length / lap time [km/h]
   top speed         top_speed [km/h]
@@ -37,7 +38,7 @@ import lap_plots
 import ttz_h5
 
 KMH = 3.6  # (km/h) per (m/s)
-HEADER = ("circuit", "length [km]", "elevation range [m]", "tightest radius [m]", "lap time",
+HEADER = ("circuit", "length [km]", "elevation range [m]", "tightest radius [m]", "largest banking [deg]", "lap time",
           "average speed [km/h]", "top speed [km/h]", "energy used [MJ]", "start", "converged",
           "re-simulation")
 
@@ -76,11 +77,12 @@ def read_circuit(lap_path):
     row = read_lap_figures(lap_path)
     folder = os.path.dirname(os.path.abspath(lap_path))
     road_path = os.path.join(folder, "road.h5")
-    road = lap_plots.read_road(road_path, row["road_length"], ("s", "z", "kappa"))
-    for name in ("z", "kappa"):
+    road = lap_plots.read_road(road_path, row["road_length"], ("s", "z", "kappa", "banking"))
+    for name in ("z", "kappa", "banking"):
         ttz_h5.require_finite(road_path, name, road[name])
     row.update(name=os.path.basename(folder), z_range=float(np.ptp(road["z"])),
-               kappa_max=float(np.max(np.abs(road["kappa"]))))
+               kappa_max=float(np.max(np.abs(road["kappa"]))),
+               banking_max=math.degrees(float(np.max(np.abs(road["banking"])))))
     return row
 
 
@@ -98,7 +100,7 @@ def table_row(row):
     """The markdown cells of one circuit."""
     radius = 1.0 / row["kappa_max"] if row["kappa_max"] > 0 else float("inf")
     return [row["name"], f"{row['road_length'] / 1e3:.2f}", f"{row['z_range']:.0f}",
-            f"{radius:.1f}", lap_plots.format_lap_time(row["lap_time"]),
+            f"{radius:.1f}", f"{row['banking_max']:.1f}", lap_plots.format_lap_time(row["lap_time"]),
             f"{KMH * row['road_length'] / row['lap_time']:.1f}", f"{KMH * row['top_speed']:.1f}",
             f"{row['energy_used'] / 1e6:.2f} ({100 * row['energy_fraction']:.1f} %)",
             f"{row['start']} at {KMH * row['start_speed']:.1f} km/h", "yes" if row["converged"] else "no: " + row["message"], resim_text(row)]
@@ -111,7 +113,8 @@ def report_text(rows):
     lines += ["| " + " | ".join(table_row(row)) + " |" for row in rows]
     lines += ["", "A standing start is bike.yaml's initial speed, as on the TT; a flying one the speed "
               "with which the QSS lap on the centre line arrives back at the line (lap --start "
-              "flying). Roads as fitted by road_fit, level across (the ribbon has no banking). "
+              "flying). Roads as fitted by road_fit: banked where the input gives the banking "
+              "(3-D border points, a banking column), else level across. "
               "docs/pipelines.md \"Other circuits\".", ""]
     return "\n".join(lines)
 

@@ -20,7 +20,8 @@ LAP_SCHEMA = "ttz.lap"
 # reference_report.py and lap_plots.py read where it is (sensitivities() below). Any other version is refused.
 LAP_VERSIONS = (1, 2, 3, 4)
 ROAD_SCHEMA = "ttz.road"
-ROAD_VERSIONS = (1,)
+# Version 2 (docs/road_h5.md) adds banking (road_banking() below reads version 1 as level).
+ROAD_VERSIONS = (1, 2)
 EARTH_RADIUS_M = 6371000.0
 
 
@@ -81,6 +82,7 @@ class Artefact:
             wanted = " or ".join(str(v) for v in versions)
             raise InputError(self.path, f"schema '{found}' version {version} is not "
                              f"'{schema}' version {wanted}")
+        self.version = int(version)
 
     def has(self, name):
         """True if the dataset exists."""
@@ -144,6 +146,11 @@ def open_lap(path):
 def open_road(path):
     """road.h5 (schema ttz.road)."""
     return Artefact(path, ROAD_SCHEMA, ROAD_VERSIONS)
+
+
+def road_banking(road, length):
+    """The road's banking [rad]: zero in version 1, which had none (docs/road_h5.md)."""
+    return road.data("banking", length) if road.version >= 2 else np.zeros(length)
 
 
 def sensitivities(lap):

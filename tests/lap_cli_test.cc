@@ -49,7 +49,7 @@ ttz::RoadArtefact StraightRoad(double length, double (*width)(double) = [](doubl
     r.left_y.push_back(0.5 * w);
     r.right_y.push_back(-0.5 * w);
     r.width.push_back(w);
-    for (auto* f : {&r.y, &r.z, &r.theta, &r.sigma, &r.kappa, &r.nu, &r.tau}) f->push_back(0.0);
+    for (auto* f : {&r.y, &r.z, &r.theta, &r.sigma, &r.banking, &r.kappa, &r.nu, &r.tau}) f->push_back(0.0);
   }
   r.length_m = length;
   r.ds_m = 1.0;
@@ -90,7 +90,7 @@ ttz::RoadArtefact StadiumRoad(double straight, double radius) {
     r.left_y.push_back(y + 4.0 * std::cos(theta));
     r.right_x.push_back(x + 4.0 * std::sin(theta));
     r.right_y.push_back(y - 4.0 * std::cos(theta));
-    for (auto* f : {&r.z, &r.sigma, &r.nu, &r.tau}) f->push_back(0.0);
+    for (auto* f : {&r.z, &r.sigma, &r.banking, &r.nu, &r.tau}) f->push_back(0.0);
   }
   r.length_m = length;
   r.ds_m = h;
@@ -463,10 +463,29 @@ TEST_F(LapCli, RoadOfAnotherSchema) {
 
 TEST_F(LapCli, RoadOfAnotherSchemaVersion) {
   {
-    ttz::ArtefactWriter w(Path("road.h5"), "ttz.road", 2);
+    ttz::ArtefactWriter w(Path("road.h5"), "ttz.road", 3);
     w.Commit();
   }
-  ExpectBadInput(Lap(Path("road.h5") + " " + kBike), Path("road.h5") + ": schema_version 2 found, 1 expected");
+  ExpectBadInput(Lap(Path("road.h5") + " " + kBike), Path("road.h5") + ": schema_version 3 found, 1 to 2 expected");
+}
+
+// A road.h5 of version 1, before banking, is a road level across: the same lap as version 2's.
+TEST_F(LapCli, AVersion1RoadIsLevelAcross) {
+  const std::string road = Road("road.h5", StraightRoad(100.0));
+  const std::string options = " " + kBike + " -q --ds 10";
+  ASSERT_EQ(Lap(road + options, "v2.h5").exit_code, 0);
+  const hid_t file = H5Fopen(road.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  EXPECT_GE(H5Ldelete(file, "banking", H5P_DEFAULT), 0);
+  const int64_t version = 1;
+  const hid_t attribute = H5Aopen(file, "schema_version", H5P_DEFAULT);
+  EXPECT_GE(H5Awrite(attribute, H5T_NATIVE_INT64, &version), 0);
+  H5Aclose(attribute);
+  H5Fclose(file);
+  const CliRun v1 = Lap(road + options, "v1.h5");
+  ASSERT_EQ(v1.exit_code, 0) << v1.stderr_text;
+  EXPECT_EQ(ttz::ArtefactReader(Path("v1.h5"), "ttz.lap", 4).ReadDoubleAttribute("lap_time"),
+            ttz::ArtefactReader(Path("v2.h5"), "ttz.lap", 4).ReadDoubleAttribute("lap_time"));
 }
 
 TEST_F(LapCli, RoadWithoutCurvature) {

@@ -7,6 +7,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "common/road_artefact.h"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -141,8 +143,11 @@ TEST_F(RoadFitCli, DuplicateConsecutivePointsAreToleratedWithAWarning) {
 }
 
 // A banked centre line in local metres (as ../shared/data/tracks/las-vegas-centreline-banking.csv):
-// fitted, level across, with a warning that the banking is not.
-TEST_F(RoadFitCli, ABankingColumnIsIgnoredWithAWarning) {
+// a 400 m left arc of 300 m radius, banked 0.15 rad with its outer (right) border the higher.
+// road.h5 carries the banking, in radians or from degrees, and the in-plane curvature it tilts;
+// a centre line without the column is level; a banking without a unit, or beyond 45 degrees, is
+// refused in one line.
+TEST_F(RoadFitCli, ABankedCentreLineKeepsItsBanking) {
   const auto rows = [](const std::string& banking) {
     std::ostringstream text;
     for (int i = 0; i < 40; ++i) {
@@ -151,20 +156,33 @@ TEST_F(RoadFitCli, ABankingColumnIsIgnoredWithAWarning) {
     }
     return text.str();
   };
-  const auto f = File("banked.csv", "x_m,y_m,w_tr_right_m,w_tr_left_m,banking_rad\n" + rows(",-0.15"));
-  const CliRun run = RoadFit(f);
-  EXPECT_EQ(run.exit_code, 0) << run.stderr_text;
-  EXPECT_NE(run.stderr_text.find(f + ": column 'banking_rad' is ignored: the ribbon has no banking"),
-            std::string::npos)
-      << run.stderr_text;
-  EXPECT_TRUE(fs::exists(Output()));
+  const auto middle = [&] {
+    const ttz::RoadArtefact road = ttz::ReadRoad(Output());
+    return road.s.size() / 2;
+  };
+  const CliRun rad = RoadFit(File("banked.csv", "x_m,y_m,w_tr_right_m,w_tr_left_m,banking_rad\n" + rows(",-0.15")));
+  ASSERT_EQ(rad.exit_code, 0) << rad.stderr_text;
+  EXPECT_EQ(rad.stderr_text.find("banking"), std::string::npos) << rad.stderr_text;
+  {
+    const ttz::RoadArtefact road = ttz::ReadRoad(Output());
+    const size_t i = middle();
+    EXPECT_NEAR(road.banking[i], -0.15, 1e-3);
+    EXPECT_NEAR(road.kappa[i], std::cos(0.15) / 300.0, 2e-5);  // the turn, tilted into the banked plane
+    EXPECT_NEAR(road.nu[i], std::sin(0.15) / 300.0, 2e-5);     // and out of it: pressing the bike down
+  }
+  ASSERT_EQ(RoadFit(File("deg.csv", "x_m,y_m,w_tr_right_m,w_tr_left_m,bank_deg\n" + rows(",-8.594"))).exit_code, 0);
+  EXPECT_NEAR(ttz::ReadRoad(Output()).banking[middle()], -0.15, 1e-3);
   const CliRun level = RoadFit(File("level.csv", "x_m,y_m,w_tr_right_m,w_tr_left_m\n" + rows("")));
-  EXPECT_EQ(level.exit_code, 0) << level.stderr_text;
-  EXPECT_EQ(level.stderr_text.find("banking"), std::string::npos) << level.stderr_text;
-  // a file that is no form at all: its error alone
+  ASSERT_EQ(level.exit_code, 0) << level.stderr_text;
+  for (double xi : ttz::ReadRoad(Output()).banking) ASSERT_EQ(xi, 0.0);
   fs::remove(Output());
-  const auto bad = File("bad.csv", "bank,foo\n1,2\n");
-  ExpectBadInput(RoadFit(bad), bad + ": unknown columns (bank,foo)");
+  const auto bare = File("bare.csv", "x_m,y_m,w_tr_right_m,w_tr_left_m,banking\n" + rows(",-0.15"));
+  ExpectBadInput(RoadFit(bare), bare + ": column 'banking': banking without a unit: name it banking_rad or banking_deg");
+  const auto steep = File("steep.csv", "x_m,y_m,w_tr_right_m,w_tr_left_m,banking_deg\n" + rows(",50"));
+  ExpectBadInput(RoadFit(steep), steep + ":2: column 'banking_deg': banking 50 is not within +-45 deg");
+  // a file that is no form at all: its error alone
+  const auto bad = File("bad.csv", "bank_rad,foo\n1,2\n");
+  ExpectBadInput(RoadFit(bad), bad + ": unknown columns (bank_rad,foo)");
 }
 
 TEST_F(RoadFitCli, AFarOutlierIsAnErrorOrAbsorbedWithRobust) {

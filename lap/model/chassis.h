@@ -6,6 +6,11 @@
 // Decisions (see docs/lap.md): the paper's small-slope approximation sigma ~ sin(sigma) is replaced
 // by sin(sigma) (road.h5 defines dz/ds = sin(sigma)), cos(sigma) ~ 1 is kept as in the paper;
 // the dOmega_z/dt terms of eq. 13a and 16 are kept (Omega_z is a state, lap/model/state.h).
+// Banking xi (eq. 2; the paper's xi = 0) tilts gravity in the road frame: g sin(xi) to the right
+// (the model's +y) and g cos(xi) along the road's normal, cos(sigma) ~ 1 kept on both. In the
+// vehicle's frame, turned by alpha from the road's, gravity's forward component is
+// -g sin(sigma) cos(alpha) + g sin(xi) sin(alpha) and its lateral g sin(sigma) sin(alpha) +
+// g sin(xi) cos(alpha): where the paper has g sigma cos(alpha), g sigma sin(alpha) and g.
 #pragma once
 
 #include <array>
@@ -37,12 +42,16 @@ Equations<T> NewtonEuler(const Vehicle& v, const StateVector<T>& x, const Kinema
   using A = Affine<T>;
   const double M = v.M, a = v.h - v.r_t, r_t = v.r_t, g = v.g;
   const double gs = g * std::sin(road.sigma);  // g sigma of the paper
+  const double gb = g * std::sin(road.xi);     // gravity across the banked road, to the right
+  const double gn = g * std::cos(road.xi);     // gravity along the road's normal (g in the paper)
   const T& z = x[kZ];
   const T& phi = x[kPhi];
   const T& phid = x[kOmegaPhi];
   const T& zd = x[kZdot];
   const T sp = sin(phi), cp = cos(phi);
   const T sal = sin(x[kAlpha]), cal = cos(x[kAlpha]);
+  const T g_x = gs * cal - gb * sal;  // minus gravity's forward component in the vehicle frame
+  const T g_y = gs * sal + gb * cal;  // gravity's lateral component in the vehicle frame
   const T &Ox = k.Omega_x, &Oy = k.Omega_y, &Oz = k.Omega_z;
   const T &vx = k.v_x, &vy = k.v_y, &vz = k.v_z;
   const A zdd = A::Unit(kZddot), phidd = A::Unit(kPhiddot), wd = A::Unit(kOmegaWdot);
@@ -52,27 +61,27 @@ Equations<T> NewtonEuler(const Vehicle& v, const StateVector<T>& x, const Kinema
   e[0] = k.dv_x * M + k.dOmega_y * ((cp * (-a) - r_t + z) * M) +
          A(-2.0 * M * a * (Oz * cp - Oy * sp) * phid - M * sp * a * k.dOmega_z + 2.0 * M * Oy * zd -
            M * Ox * Oz * a * cp + M * Ox * Oy * a * sp + M * ((z - r_t) * Ox + vy) * Oz +
-           M * Oy * vz - (f.F_x - f.D - M * gs * cal));
+           M * Oy * vz - (f.F_x - f.D - M * g_x));
   // eq. 13b
   e[1] = k.dv_y * M + phidd * (M * cp * a) + k.dOmega_x * (M * (a * cp + r_t - z)) +
          A(-M * sp * a * phid * phid - 2.0 * M * sp * Ox * a * phid - 2.0 * M * Ox * zd -
            M * a * (Oz * Oz + Ox * Ox) * sp - M * Oy * Oz * a * cp - M * ((r_t - z) * Oy - vx) * Oz -
-           M * Ox * vz - (f.F_y + f.L * sp + M * gs * sal));
+           M * Ox * vz - (f.F_y + f.L * sp + M * g_y));
   // eq. 13c
   e[2] = zdd * M + phidd * (M * sp * a) + k.dOmega_x * (M * sp * a) + k.dv_z * M +
          A(M * cp * a * phid * phid + 2.0 * M * cp * Ox * a * phid +
            M * cp * a * (Ox * Ox + Oy * Oy) + M * Oy * Oz * a * sp - M * (z - r_t) * Ox * Ox +
-           M * Ox * vy - M * (z - r_t) * Oy * Oy - M * Oy * vx - (M * g - f.N - f.L * cp));
+           M * Ox * vy - M * (z - r_t) * Oy * Oy - M * Oy * vx - (M * gn - f.N - f.L * cp));
   // eq. 15: T_phi
   const A T_phi =
-      (zdd + k.dv_z + A(-Oy * vx + Ox * vy - g)) * (a * sp) -
-      (k.dv_y + A(-2.0 * Ox * zd + Ox * vz - Oz * vx + gs * sal)) * (a * cp) +
+      (zdd + k.dv_z + A(-Oy * vx + Ox * vy - gn)) * (a * sp) -
+      (k.dv_y + A(-2.0 * Ox * zd + Ox * vz - Oz * vx + g_y)) * (a * cp) +
       (k.dOmega_x * (2.0 * cp) + A(-2.0 * cp * Oz * Oy + sp * (Oy * Oy - Oz * Oz - phid * phid -
                                                               2.0 * Ox * phid))) *
           (a * (r_t - z)) +
       (k.dOmega_x + A(sp * cp * (Oy * Oy - Oz * Oz) - 2.0 * cp * cp * Ox * Oy)) * (a * a) +
       k.dOmega_x * (z * z - 2.0 * r_t * z) + A((v.h - z) * (v.h - 2.0 * r_t + z) * Oy * Oz) +
-      (k.dv_y + A(-vz * Ox + vx * Oz - 2.0 * zd * Ox - gs * sal)) * (r_t - z);
+      (k.dv_y + A(-vz * Ox + vx * Oz - 2.0 * zd * Ox - g_y)) * (r_t - z);
   // eq. 14
   e[3] = phidd * ((-a * (z - r_t) * cp + a * a) * M + v.I_xx) + k.dOmega_x * v.I_xx +
          A((Oz * cp - Oy * sp) * v.I_gy * x[kOmegaW] + sp * (z - r_t) * f.L +

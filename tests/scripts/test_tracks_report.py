@@ -9,9 +9,10 @@ import ttz_fixtures as fx
 
 
 class TracksReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
-    def circuit(self, name, resim=None, road_length=fx.LAP_LENGTH_M, start=None):
+    def circuit(self, name, resim=None, road_length=fx.LAP_LENGTH_M, start=None, banking=None):
         """folder `name` with the fixture lap (resim: (passed, lap time, state, worst) attributes;
-        start: its `start` attribute) and a road of `road_length` beside it; the lap's path."""
+        start: its `start` attribute) and a road of `road_length` beside it (banked `banking` rad,
+        version 1 without); the lap's path."""
         os.makedirs(self.path(name))
         lap = fx.write_lap(self.path(name, "lap.h5"), version=4)
         with h5py.File(lap, "a") as h5:
@@ -21,11 +22,11 @@ class TracksReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
                                  "resim_max_state_difference": state, "resim_worst_state": worst})
             if start is not None:
                 h5.attrs["start"] = start
-        fx.write_road(self.path(name, "road.h5"), road_length)
+        fx.write_road(self.path(name, "road.h5"), road_length, banking)
         return lap
 
     def test_a_row_per_circuit(self):
-        laps = [self.circuit("hill", (0, 3.2e-5, 0.48, "z_dot"), start="flying"),
+        laps = [self.circuit("hill", (0, 3.2e-5, 0.48, "z_dot"), start="flying", banking=-0.2),
                 self.circuit("flat", (1, 1e-6, 5e-4, "V"), start="standing"), self.circuit("old")]
         out = self.path("report", "report.md")
         self.assert_ok(fx.run("tracks_report.py", *laps, "-o", out))
@@ -33,10 +34,11 @@ class TracksReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
             rows = [line for line in handle.read().splitlines() if line.startswith("| ")]
         # the fixture: 1 km rising 1 % on a 500 m radius, 100 s, 3 MJ of a 12 MJ pack, top 30 m/s,
         # 20 m/s at the first node
-        common = "| 1.00 | 10 | 500.0 | 1:40.0 | 36.0 | 108.0 | 3.00 (25.0 %) |"
-        self.assertEqual(rows[1:], [f"| hill {common} flying at 72.0 km/h | yes | lap time 0.0032 %, z_dot 48.0 % (failed) |",
-                                    f"| flat {common} standing at 72.0 km/h | yes | lap time 0.0001 %, passed |",
-                                    f"| old {common} standing at 72.0 km/h | yes | not run |"])
+        # (the hill banked 0.2 rad, 11.5 deg; the others version 1, level across)
+        road, lap = "| 1.00 | 10 | 500.0 |", "| 1:40.0 | 36.0 | 108.0 | 3.00 (25.0 %) |"
+        self.assertEqual(rows[1:], [f"| hill {road} 11.5 {lap} flying at 72.0 km/h | yes | lap time 0.0032 %, z_dot 48.0 % (failed) |",
+                                    f"| flat {road} 0.0 {lap} standing at 72.0 km/h | yes | lap time 0.0001 %, passed |",
+                                    f"| old {road} 0.0 {lap} standing at 72.0 km/h | yes | not run |"])
         self.assert_no_temporaries(os.path.dirname(out))
 
     def test_bad_input_is_one_line_and_no_report(self):

@@ -75,8 +75,9 @@ def add_sensitivities(path, per_percent):
     return path
 
 
-def write_road(path, length=LAP_LENGTH_M):
-    """A road of `length` [m] curving left on a 500 m radius, rising 1 % (x east, y north, z up)."""
+def write_road(path, length=LAP_LENGTH_M, banking=None):
+    """A road of `length` [m] curving left on a 500 m radius, rising 1 % (x east, y north, z up);
+    version 1 (level across) or, with `banking` [rad], version 2 banked so all along."""
     s = np.linspace(0.0, length, 201)
     theta = s / 500.0
     channels = {"s": (s, "m"), "x": (500 * np.sin(theta), "m"), "y": (500 * (1 - np.cos(theta)), "m"),
@@ -85,7 +86,9 @@ def write_road(path, length=LAP_LENGTH_M):
     with h5py.File(path, "w") as h5:
         for name, (values, units) in channels.items():
             _dataset(h5, name, values, units)
-        h5.attrs.update({"schema": "ttz.road", "schema_version": 1, "length_m": length})
+        if banking is not None:
+            _dataset(h5, "banking", np.full_like(s, banking), "rad")
+        h5.attrs.update({"schema": "ttz.road", "schema_version": 1 if banking is None else 2, "length_m": length})
     return path
 
 

@@ -4,6 +4,8 @@
 #include <limits>
 #include <random>
 
+#include "road_fit/ribbon.h"
+
 namespace ttz::testing {
 
 RoadSpec ClimbingCurve() {
@@ -36,6 +38,14 @@ RoadSpec Circle() {
           [](double) { return 8.0; }};
 }
 
+RoadSpec BankedClimbingCurve() {
+  RoadSpec spec = ClimbingCurve();
+  spec.name = "banked climbing curve";
+  const auto turn = spec.heading_rate;
+  spec.banking = [=](double s) { return -0.16 * turn(s) / 0.019; };
+  return spec;
+}
+
 TrueRoad Integrate(const RoadSpec& spec, double step_m) {
   TrueRoad r;
   r.closed = spec.closed;
@@ -56,8 +66,11 @@ TrueRoad Integrate(const RoadSpec& spec, double step_m) {
     r.z.push_back(q[2]);
     r.theta.push_back(q[3]);
     r.sigma.push_back(spec.slope(s));
-    r.kappa.push_back(std::cos(spec.slope(s)) * spec.heading_rate(s));
+    const double xi = spec.banking(s), d = 1e-3;
+    const double slope_rate = (spec.slope(s + d) - spec.slope(s - d)) / (2 * d);
+    r.kappa.push_back(road::Curvatures(spec.slope(s), xi, spec.heading_rate(s), slope_rate, 0.0).kappa);
     r.width.push_back(spec.width(s));
+    r.banking.push_back(xi);
     auto add = [](const std::array<double, 4>& a, const std::array<double, 4>& b, double c) {
       return std::array<double, 4>{a[0] + c * b[0], a[1] + c * b[1], a[2] + c * b[2], a[3] + c * b[3]};
     };
@@ -86,6 +99,7 @@ road::RoadInput SampleBorders(const TrueRoad& road, const SamplingOptions& optio
   input.file = "synthetic";
   input.format = "border-points";
   input.has_elevation = true;
+  input.carries_banking = true;
   const double step = road.s[1] - road.s[0];
   // A closed road ends one spacing short of its start, as a survey of a circuit would.
   const double end = road.closed ? road.length() - options.max_spacing_m : road.length();
@@ -94,11 +108,13 @@ road::RoadInput SampleBorders(const TrueRoad& road, const SamplingOptions& optio
     for (double s = 0.5 * spacing(rng); s <= end; s += spacing(rng)) {
       const size_t i = std::min(road.s.size() - 1, static_cast<size_t>(std::lround(s / step)));
       const double half = 0.5 * sign * road.width[i];
+      double l[3];
+      road::LeftAcross(road.theta[i], road.sigma[i], road.banking[i], l);
       road::Observation o;
       o.side = side;
-      o.x_m = road.x[i] - half * std::sin(road.theta[i]) + noise(rng);
-      o.y_m = road.y[i] + half * std::cos(road.theta[i]) + noise(rng);
-      o.z_m = road.z[i] + noise(rng);
+      o.x_m = road.x[i] + half * l[0] + noise(rng);
+      o.y_m = road.y[i] + half * l[1] + noise(rng);
+      o.z_m = road.z[i] + half * l[2] + noise(rng);
       o.line = static_cast<long>(input.points.size()) + 2;
       input.points.push_back(o);
     }

@@ -17,6 +17,7 @@ struct RoadSpec {
   std::function<double(double)> heading_rate;  // dtheta/ds [1/m] at s
   std::function<double(double)> slope;         // sigma [rad] at s, positive uphill
   std::function<double(double)> width;         // [m] at s
+  std::function<double(double)> banking = [](double) { return 0.0; };  // xi [rad] at s, left higher positive
 };
 
 // A 1 km climbing curve whose curvature varies smoothly (radius 55 to 500 m) and whose slope
@@ -27,10 +28,14 @@ RoadSpec ClimbingCurve();
 RoadSpec ClothoidSBend();
 // A flat circle of radius 100 m, closed, width 8 m.
 RoadSpec Circle();
+// The climbing curve banked as a speedway is, the outer (right) border higher, by up to 9 degrees
+// where the curve is tightest.
+RoadSpec BankedClimbingCurve();
 
-// The truth every `step` metres: exact integration of theta' and sigma (RK4).
+// The truth every `step` metres: exact integration of theta' and sigma (RK4); kappa is the road
+// frame's in-plane curvature of eq. 12 (road_fit/ribbon.h).
 struct TrueRoad {
-  std::vector<double> s, x, y, z, theta, sigma, kappa, width;
+  std::vector<double> s, x, y, z, theta, sigma, kappa, width, banking;
   bool closed = false;
   double length() const { return s.back(); }
   // Index of the sample nearest to (x, y) in the plane.
