@@ -34,7 +34,8 @@ void FillNode(const Vehicle& v, const StateVector<double>& x, const ControlVecto
   c->sdot[k] = m.kin.sdot;
   c->accel_long[k] = m.acc[kVdot];
   // Lateral acceleration: V Omega_z, the centripetal acceleration of the yawing frame (eq. 11),
-  // exact in steady cornering (V^2 / R on a circle of radius R). The kinematic one adds
+  // exact in steady cornering (V^2 / R on a level circle of radius R; on a banked one its part in
+  // the road's plane, V^2 cos(xi) / R). The kinematic one adds
   // d(v_y)/dt = -d(V beta)/dt, which follows the fast sideslip dynamics and is small.
   c->accel_lat[k] = x[kV] * x[kOmegaZ];
   c->tyre_load[k] = m.tyre.N;

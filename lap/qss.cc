@@ -118,16 +118,18 @@ struct NodePoint {
   bool solved = false;
 };
 
-// An upright start for the Newton: load from weight and lift (eq. 13c, 21), the lean of a toroidal
-// tyre tan(phi) = (V^2 kappa - g sin(xi)) / (g cos(xi)) h / (h - r_t) (the banking xi takes its
-// share of the turn, lap/model/chassis.h), slip from the force M a + D (eq. 13a, 18, 20).
+// An upright start for the Newton: load from weight, the road's normal curvature and lift
+// (eq. 13c, 21), the lean of a toroidal tyre tan(phi) = (V^2 kappa - g sin(xi)) / (g cos(xi) +
+// V^2 nu) h / (h - r_t) (the banking xi takes its share of the turn, lap/model/chassis.h), slip
+// from the force M a + D (eq. 13a, 18, 20).
 QuasiVector UprightStart(const Vehicle& v, const RoadPoint& rp, const Motion& mo) {
-  const double gb = v.g * std::sin(rp.xi), gn = v.g * std::cos(rp.xi);
-  const double N = v.M * gn - v.lift_k * mo.V * mo.V, z = N / v.K_s, R_e = v.r - z;
+  const double V2 = mo.V * mo.V, lateral = V2 * rp.kappa - v.g * std::sin(rp.xi);
+  const double normal = v.g * std::cos(rp.xi) + V2 * rp.nu;  // per unit mass, without the lift
+  const double N = v.M * normal - v.lift_k * V2, z = N / v.K_s, R_e = v.r - z;
   const double F_x = v.M * mo.a + v.drag_k * mo.V * mo.V;
   QuasiVector q = QuasiVector::Zero();
   q[kQZ] = z;
-  q[kQPhi] = std::atan((mo.V * mo.V * rp.kappa - gb) / gn * v.h / (v.h - v.r_t));
+  q[kQPhi] = std::atan(lateral / normal * v.h / (v.h - v.r_t));
   q[kQOmegaW] = mo.V * (1.0 + F_x / (N * v.K_kappa)) / R_e;
   q[kQTauW] = (F_x + v.mu_r * N) * R_e;
   q[kQOmegaZ] = mo.V * rp.kappa;
@@ -250,9 +252,11 @@ double MinAcceleration(const Vehicle& v, const NodePoint& np) {
 // ---- The speed profile -----------------------------------------------------------------------
 
 // The speed above which the QSS may not go at a road point, each limit at kSafety:
-// - lateral adherence F_y <= mu_y N (eq. 19) with F_y = M (V^2 |kappa| - g sin(xi) sign(kappa))
-//   and N = M (g cos(xi) + V^2 nu) - L (eq. 13c, 21, banking xi as in lap/model/chassis.h); the
-//   model's F_y is ~1 % less (the centre of mass leans into the bend);
+// - lateral adherence |F_y| <= mu_y N (eq. 19) with F_y = M (V^2 kappa - g sin(xi)), the banking
+//   xi pulling to the right (lap/model/chassis.h), and N = M (g cos(xi) + V^2 nu) - L (eq. 13c,
+//   21), on either side: V^2 (+-M kappa + kSafety mu_y (lift_k - M nu)) <= M g (kSafety mu_y
+//   cos(xi) +- sin(xi)) (a bank steeper than the tyre holds caps at kMinSpeed); the model's F_y
+//   is ~1 % less (the centre of mass leans into the bend);
 // - yaw rate |Omega_z| = V |kappa| <= Omega_z_max (eq. 39c);
 // - roll rate (eq. 39b) as the lean follows the curvature: with tan(phi) = k V^2 kappa / g,
 //   |omega_phi| = V |dphi/ds| <= k V^3 |dkappa/ds| / g. The lean factor k is largest upright,
@@ -261,11 +265,11 @@ double MinAcceleration(const Vehicle& v, const NodePoint& np) {
 double SpeedCap(const Vehicle& v, const RoadPoint& rp) {
   double cap = kMaxSpeed;
   const double k = std::abs(rp.kappa);
-  const double lateral = v.M * k + kSafety * v.mu_y * (v.lift_k - v.M * rp.nu);
-  // The bank's share of the turn; on a straight the tyre holds its pull down the slope.
-  const double banked = k > 0.0 ? std::copysign(std::sin(rp.xi), rp.kappa * rp.xi) : -std::abs(std::sin(rp.xi));
-  const double held = kSafety * v.mu_y * std::cos(rp.xi) + banked;        // lateral g the tyre and bank hold
-  if (lateral > 0.0) cap = std::min(cap, std::sqrt(std::max(0.0, v.M * v.g * held / lateral)));
+  for (const double side : {1.0, -1.0}) {
+    const double a = side * v.M * rp.kappa + kSafety * v.mu_y * (v.lift_k - v.M * rp.nu);
+    const double b = v.M * v.g * (kSafety * v.mu_y * std::cos(rp.xi) + side * std::sin(rp.xi));
+    if (a > 0.0) cap = std::min(cap, std::sqrt(std::max(b / a, kMinSpeed * kMinSpeed)));
+  }
   if (k > 0.0) cap = std::min(cap, kSafety * v.Omega_z_max / k);
   const double lean = 1.1 * v.h / (v.h - v.r_t);
   if (rp.dkappa != 0.0)

@@ -1,6 +1,6 @@
 // The road as the lap solver sees it: road.h5's curvatures, slope and width as smooth functions
 // of s (cubic Hermite interpolation through the samples, with derivatives), in the model's frame
-// (lap/model/state.h: kappa changes sign, nu, tau and sigma do not).
+// (lap/model/state.h: kappa changes sign, nu, tau, sigma and the banking xi do not).
 #pragma once
 
 #include <string>

@@ -56,6 +56,9 @@ int Run(const Arguments& a) {
   fit.topology = a.closed ? ttz::road::Topology::kClosed
                           : a.open ? ttz::road::Topology::kOpen : ttz::road::Topology::kAuto;
   const ttz::road::RoadInput input = ttz::road::ReadRoadInput(a.input, read);
+  if (input.carries_banking && !fit.level && input.format != "centre-line")
+    ttz::Log(ttz::LogKind::kInfo, a.input + ": the banking is fitted from the borders' elevations; give --level "
+                                            "if they come from an elevation model (docs/road_fit_inputs.md)");
   ttz::road::FitSummary summary;
   const ttz::road::Ribbon ribbon = ttz::road::FitRibbon(input, fit, &summary);
   const ttz::RoadArtefact road =

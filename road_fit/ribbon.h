@@ -43,9 +43,25 @@ enum RibbonControl : int {
   kNumRibbonControls
 };
 
+// A fit that holds the banking at zero leaves its states and control out of the problem, which
+// is then the paper's exactly: its parameter blocks are the first kLevelStates states and
+// kLevelControls controls of the same arrays (xi comes last for this). The functions and cost
+// functors that read whole states take their count N, kLevelStates or kNumRibbonStates.
+inline constexpr int kLevelStates = kXi;
+inline constexpr int kLevelControls = kUXi;
+constexpr int ControlsFor(int states) { return states == kNumRibbonStates ? kNumRibbonControls : kLevelControls; }
+
+// xi of a state of N entries: zero when N leaves it out.
+template <int N, typename T>
+T BankingOf(const T* x) {
+  static_assert(N == kLevelStates || N == kNumRibbonStates);
+  if constexpr (N > kXi) return x[kXi];
+  else return T(0.0);
+}
+
 // dx/dzeta = g(x, u), eq. 8a-8e (with z up: dz/dzeta = +sin(sigma)(1 + u_s)); xi follows the
-// pattern of sigma.
-template <typename T>
+// pattern of sigma. The first N states.
+template <int N = kNumRibbonStates, typename T>
 void RibbonDerivative(const T* x, const T* u, T* dx_dzeta) {
   using std::cos;
   using std::sin;
@@ -59,8 +75,10 @@ void RibbonDerivative(const T* x, const T* u, T* dx_dzeta) {
   dx_dzeta[kSigmaHat] = u[kUSigma];
   dx_dzeta[kWidth] = u[kUWidth];  // eq. 8c
   dx_dzeta[kS] = stretch;         // eq. 8e
-  dx_dzeta[kXi] = x[kXiHat] * stretch;
-  dx_dzeta[kXiHat] = u[kUXi];
+  if constexpr (N > kXi) {
+    dx_dzeta[kXi] = x[kXiHat] * stretch;
+    dx_dzeta[kXiHat] = u[kUXi];
+  }
 }
 
 // Horizontal unit vector pointing to the left of the heading, in the x-y plane.

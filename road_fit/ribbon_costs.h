@@ -2,7 +2,8 @@
 //
 // Each functor is one term: the collocation defect of the dynamics (eq. 8), the control penalty
 // U(u) (eq. 6b), the distance of a measured point to the ribbon's border (eq. 6a, 7), a measured
-// width or banking, and the closure of a circuit.
+// width or banking, and the closure of a circuit. Those that read whole states or controls take
+// the number N of states in the problem (ribbon.h: kLevelStates holds the banking at zero).
 #pragma once
 
 #include <array>
@@ -16,15 +17,16 @@ namespace ttz::road {
 // interval's control u held constant:
 //   (x1 - x0 - h/2 (g(x0, u) + g(x1, u))) / (h * tolerance_per_metre)
 // so that a residual of 1 is a defect of `tolerance_per_metre` per metre of road.
+template <int N = kNumRibbonStates>
 struct DynamicsDefect {
   DynamicsDefect(double h, const RibbonScales& tolerance_per_metre) : h(h), tol(tolerance_per_metre) {}
 
   template <typename T>
   bool operator()(const T* x0, const T* x1, const T* u, T* r) const {
-    T g0[kNumRibbonStates], g1[kNumRibbonStates];
-    RibbonDerivative(x0, u, g0);
-    RibbonDerivative(x1, u, g1);
-    for (int j = 0; j < kNumRibbonStates; ++j)
+    T g0[N], g1[N];
+    RibbonDerivative<N>(x0, u, g0);
+    RibbonDerivative<N>(x1, u, g1);
+    for (int j = 0; j < N; ++j)
       r[j] = (x1[j] - x0[j] - T(0.5 * h) * (g0[j] + g1[j])) / T(h * tol[j]);
     return true;
   }
@@ -34,14 +36,15 @@ struct DynamicsDefect {
 };
 
 // The smoothness term w_u U(u) of eq. 6b over an interval of length h, each control normalised by
-// a reference magnitude so that one weight fits all four: sqrt(w h) u_j / u_ref_j.
+// a reference magnitude so that one weight fits them all: sqrt(w h) u_j / u_ref_j, for the first M.
+template <int M = kNumRibbonControls>
 struct ControlEffort {
   ControlEffort(double weight_times_h, const std::array<double, kNumRibbonControls>& u_ref)
       : sqrt_wh(std::sqrt(weight_times_h)), u_ref(u_ref) {}
 
   template <typename T>
   bool operator()(const T* u, T* r) const {
-    for (int j = 0; j < kNumRibbonControls; ++j) r[j] = T(sqrt_wh / u_ref[j]) * u[j];
+    for (int j = 0; j < M; ++j) r[j] = T(sqrt_wh / u_ref[j]) * u[j];
     return true;
   }
 
@@ -52,12 +55,12 @@ struct ControlEffort {
 // Side of the ribbon a measured point lies on: +1 left border, -1 right border, 0 centre line.
 // Eq. 7 places the borders at +- r_w/2 across the road: along the horizontal left normal when the
 // banking is zero (the paper's), along the banked surface's lateral axis (LeftAcross) otherwise.
-template <typename T>
+template <int N = kNumRibbonStates, typename T>
 void RibbonPoint(const T* x0, const T* x1, double t, double side, T* p) {
-  T x[kNumRibbonStates];
-  for (int j = 0; j < kNumRibbonStates; ++j) x[j] = (T(1.0) - T(t)) * x0[j] + T(t) * x1[j];
+  T x[N];
+  for (int j = 0; j < N; ++j) x[j] = (T(1.0) - T(t)) * x0[j] + T(t) * x1[j];
   T l[3];
-  LeftAcross(x[kTheta], x[kSigma], x[kXi], l);
+  LeftAcross(x[kTheta], x[kSigma], BankingOf<N>(x), l);
   const T half = T(0.5 * side) * x[kWidth];
   p[0] = x[kX] + half * l[0];
   p[1] = x[kY] + half * l[1];
@@ -68,6 +71,7 @@ void RibbonPoint(const T* x0, const T* x1, double t, double side, T* p) {
 // road's frame: across the road, in elevation and along the road, each over its sigma_e. The
 // along-road part pins the ribbon's abscissa (without it a ribbon could slide along itself); the
 // point's fraction t is re-estimated by projection between solves, so it vanishes at the end.
+template <int N = kNumRibbonStates>
 struct BorderDistance {
   BorderDistance(double t, double side, const std::array<double, 3>& measured, const std::array<double, 3>& sigma_m)
       : t(t), side(side), p(measured), sigma(sigma_m) {}
@@ -75,7 +79,7 @@ struct BorderDistance {
   template <typename T>
   bool operator()(const T* x0, const T* x1, T* r) const {
     T b[3];
-    RibbonPoint(x0, x1, t, side, b);
+    RibbonPoint<N>(x0, x1, t, side, b);
     const T theta = (T(1.0) - T(t)) * x0[kTheta] + T(t) * x1[kTheta];
     T lx, ly;
     LeftNormal(theta, &lx, &ly);
@@ -119,14 +123,15 @@ struct BankingObservation {
 
 // A closed circuit ends where it starts: every state but s equal at both ends, the heading after
 // `turns` full turns (mod 2 pi), each difference over its tolerance.
+template <int N = kNumRibbonStates>
 struct Closure {
-  static constexpr int kNumResiduals = kNumRibbonStates - 1;  // all but s
+  static constexpr int kNumResiduals = N - 1;  // all but s
 
   Closure(double turns, const RibbonScales& tolerance) : turns(turns), tol(tolerance) {}
 
   template <typename T>
   bool operator()(const T* first, const T* last, T* r) const {
-    for (int j = 0, i = 0; j < kNumRibbonStates; ++j) {
+    for (int j = 0, i = 0; j < N; ++j) {
       if (j == kS) continue;
       const double offset = j == kTheta ? 2.0 * M_PI * turns : 0.0;
       r[i++] = (last[j] - first[j] - T(offset)) / T(tol[j]);

@@ -48,8 +48,8 @@ TEST(RibbonCosts, DynamicsDefectGradient) {
   State x0 = Node(0.0), x1 = Node(1.3);
   Control u = {2e-4, -1e-5, 0.01, -0.002, 3e-5};
   RibbonScales tol = {1e-5, 1e-5, 1e-5, 1e-6, 1e-6, 1e-7, 1e-7, 1e-5, 1e-5, 1e-6, 1e-7};
-  ceres::AutoDiffCostFunction<DynamicsDefect, kNumRibbonStates, kNumRibbonStates, kNumRibbonStates, kNumRibbonControls>
-      cost(new DynamicsDefect(1.3, tol));
+  ceres::AutoDiffCostFunction<DynamicsDefect<>, kNumRibbonStates, kNumRibbonStates, kNumRibbonStates, kNumRibbonControls>
+      cost(new DynamicsDefect<>(1.3, tol));
   ExpectGradientsMatch(cost, {x0.data(), x1.data(), u.data()});
 }
 
@@ -69,16 +69,16 @@ TEST(RibbonCosts, DynamicsDefectVanishesOnAStraightClimb) {
 
 TEST(RibbonCosts, ControlEffortGradient) {
   Control u = {2e-4, -1e-5, 0.01, -0.002, 3e-5};
-  ceres::AutoDiffCostFunction<ControlEffort, kNumRibbonControls, kNumRibbonControls> cost(
-      new ControlEffort(2.0, {1e-3, 1e-4, 1e-2, 1e-2, 1e-4}));
+  ceres::AutoDiffCostFunction<ControlEffort<>, kNumRibbonControls, kNumRibbonControls> cost(
+      new ControlEffort<>(2.0, {1e-3, 1e-4, 1e-2, 1e-2, 1e-4}));
   ExpectGradientsMatch(cost, {u.data()});
 }
 
 TEST(RibbonCosts, BorderDistanceGradientOnEachSide) {
   for (double side : {+1.0, -1.0, 0.0}) {
     State x0 = Node(10.0), x1 = Node(11.0);
-    ceres::AutoDiffCostFunction<BorderDistance, 3, kNumRibbonStates, kNumRibbonStates> cost(
-        new BorderDistance(0.37, side, {128.0, -32.0, 30.5}, {0.5, 1.0, 2.0}));
+    ceres::AutoDiffCostFunction<BorderDistance<>, 3, kNumRibbonStates, kNumRibbonStates> cost(
+        new BorderDistance<>(0.37, side, {128.0, -32.0, 30.5}, {0.5, 1.0, 2.0}));
     ExpectGradientsMatch(cost, {x0.data(), x1.data()});
   }
 }
@@ -142,7 +142,7 @@ TEST(RibbonCosts, CurvaturesAreTheRoadFramesAngularVelocity) {
 
 TEST(RibbonCosts, CentreDistanceIgnoresWidth) {
   State x0 = Node(10.0), x1 = Node(11.0);
-  const BorderDistance centre(0.37, 0.0, {128.0, -32.0, 30.5}, {0.5, 1.0, 2.0});
+  const BorderDistance<> centre(0.37, 0.0, {128.0, -32.0, 30.5}, {0.5, 1.0, 2.0});
   double a[3], b[3];
   centre(x0.data(), x1.data(), a);
   x0[kWidth] += 3.0;
@@ -171,12 +171,12 @@ TEST(RibbonCosts, ClosureGradientAndTurns) {
   last[kS] = 628.0;
   RibbonScales tol;
   tol.fill(1e-3);
-  double r[Closure::kNumResiduals];
+  double r[Closure<>::kNumResiduals];
   Closure(1.0, tol)(first.data(), last.data(), r);
   for (double v : r) EXPECT_NEAR(v, 0.0, 1e-9);
   last[kX] += 0.5;
-  ceres::AutoDiffCostFunction<Closure, Closure::kNumResiduals, kNumRibbonStates, kNumRibbonStates> cost(
-      new Closure(1.0, tol));
+  ceres::AutoDiffCostFunction<Closure<>, Closure<>::kNumResiduals, kNumRibbonStates, kNumRibbonStates> cost(
+      new Closure<>(1.0, tol));
   ExpectGradientsMatch(cost, {first.data(), last.data()});
 }
 

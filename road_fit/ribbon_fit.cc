@@ -55,45 +55,39 @@ class ProgressCallback : public ceres::IterationCallback {
   Progress* progress_;
 };
 
-// Holds s(0) = 0 (eq. 4c) and, when `level`, the banking states and control at zero.
-void SetManifolds(bool level, Ribbon* ribbon, ceres::Problem* problem) {
-  const std::vector<int> banking = {kXi, kXiHat};
-  for (size_t k = 0; k < ribbon->x.size(); ++k) {
-    std::vector<int> held = level ? banking : std::vector<int>{};
-    if (k == 0) held.push_back(kS);
-    if (level) ribbon->x[k][kXi] = ribbon->x[k][kXiHat] = 0.0;
-    if (!held.empty()) problem->SetManifold(ribbon->x[k].data(), new ceres::SubsetManifold(kNumRibbonStates, held));
-  }
-  if (!level) return;
-  for (auto& u : ribbon->u) {
-    u[kUXi] = 0.0;
-    problem->SetManifold(u.data(), new ceres::SubsetManifold(kNumRibbonControls, {kUXi}));
-  }
+// Sets the banking states and control to zero, for a fit that holds them there (ribbon.h).
+void Level(Ribbon* ribbon) {
+  for (auto& x : ribbon->x) x[kXi] = x[kXiHat] = 0.0;
+  for (auto& u : ribbon->u) u[kUXi] = 0.0;
 }
 
+// The residuals of the dynamics, the smoothness and a circuit's closure, over the first N states
+// (ribbon.h); s(0) = 0 (eq. 4c) held.
+template <int N>
 void AddDynamicsAndSmoothness(const FitOptions& options, Ribbon* ribbon, ceres::Problem* problem) {
+  constexpr int M = ControlsFor(N);
   const long n = static_cast<long>(ribbon->u.size());
   for (long k = 0; k < n; ++k) {
-    problem->AddResidualBlock(
-        new ceres::AutoDiffCostFunction<DynamicsDefect, kNumRibbonStates, kNumRibbonStates, kNumRibbonStates,
-                                        kNumRibbonControls>(new DynamicsDefect(ribbon->h, options.defect_tolerance)),
-        nullptr, ribbon->x[k].data(), ribbon->x[k + 1].data(), ribbon->u[k].data());
-    problem->AddResidualBlock(
-        new ceres::AutoDiffCostFunction<ControlEffort, kNumRibbonControls, kNumRibbonControls>(
-            new ControlEffort(options.smoothing_weight * ribbon->h, options.control_reference)),
-        nullptr, ribbon->u[k].data());
+    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<DynamicsDefect<N>, N, N, N, M>(
+                                  new DynamicsDefect<N>(ribbon->h, options.defect_tolerance)),
+                              nullptr, ribbon->x[k].data(), ribbon->x[k + 1].data(), ribbon->u[k].data());
+    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<ControlEffort<M>, M, M>(
+                                  new ControlEffort<M>(options.smoothing_weight * ribbon->h, options.control_reference)),
+                              nullptr, ribbon->u[k].data());
   }
   if (ribbon->closed) {
     const double turns = std::round((ribbon->x[n][kTheta] - ribbon->x[0][kTheta]) / (2.0 * M_PI));
     RibbonScales closure_tol = options.defect_tolerance;  // per metre -> absolute, over one node spacing
     for (double& t : closure_tol) t *= ribbon->h;
-    problem->AddResidualBlock(
-        new ceres::AutoDiffCostFunction<Closure, Closure::kNumResiduals, kNumRibbonStates, kNumRibbonStates>(
-            new Closure(turns, closure_tol)),
-        nullptr, ribbon->x[0].data(), ribbon->x[n].data());
+    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<Closure<N>, Closure<N>::kNumResiduals, N, N>(
+                                  new Closure<N>(turns, closure_tol)),
+                              nullptr, ribbon->x[0].data(), ribbon->x[n].data());
   }
+  problem->SetManifold(ribbon->x[0].data(), new ceres::SubsetManifold(N, {kS}));
 }
 
+// The measured points, widths and (when N has the banking) bankings.
+template <int N>
 void AddObservations(const RoadInput& input, const std::vector<Station>& stations, const FitOptions& options,
                      Ribbon* ribbon, ceres::Problem* problem) {
   for (size_t i = 0; i < input.points.size(); ++i) {
@@ -103,28 +97,35 @@ void AddObservations(const RoadInput& input, const std::vector<Station>& station
     double* x1 = ribbon->x[st.interval + 1].data();
     ceres::LossFunction* loss = options.robust ? new ceres::CauchyLoss(options.robust_scale) : nullptr;
     problem->AddResidualBlock(
-        new ceres::AutoDiffCostFunction<BorderDistance, 3, kNumRibbonStates, kNumRibbonStates>(new BorderDistance(
+        new ceres::AutoDiffCostFunction<BorderDistance<N>, 3, N, N>(new BorderDistance<N>(
             st.t, kSideSign[static_cast<int>(o.side)], {o.x_m, o.y_m, o.z_m},
             {options.sigma_lateral_m, options.sigma_vertical_m, options.sigma_along_m})),
         loss, x0, x1);
     if (o.side == Side::kCentre && std::isfinite(o.width_m))
-      problem->AddResidualBlock(new ceres::AutoDiffCostFunction<WidthObservation, 1, kNumRibbonStates, kNumRibbonStates>(
+      problem->AddResidualBlock(new ceres::AutoDiffCostFunction<WidthObservation, 1, N, N>(
                                     new WidthObservation(st.t, o.width_m, options.sigma_width_m)),
                                 nullptr, x0, x1);
-    if (std::isfinite(o.banking_rad))
-      problem->AddResidualBlock(new ceres::AutoDiffCostFunction<BankingObservation, 1, kNumRibbonStates, kNumRibbonStates>(
-                                    new BankingObservation(st.t, o.banking_rad, options.sigma_banking_rad)),
-                                nullptr, x0, x1);
+    if constexpr (N > kXi)
+      if (std::isfinite(o.banking_rad))
+        problem->AddResidualBlock(new ceres::AutoDiffCostFunction<BankingObservation, 1, N, N>(
+                                      new BankingObservation(st.t, o.banking_rad, options.sigma_banking_rad)),
+                                  nullptr, x0, x1);
   }
 }
 
 ceres::Solver::Summary SolvePass(const RoadInput& input, const std::vector<Station>& stations,
                                  const FitOptions& options, bool warm, Ribbon* ribbon, Progress* progress) {
   ceres::Problem problem;
-  AddDynamicsAndSmoothness(options, ribbon, &problem);
-  AddObservations(input, stations, options, ribbon, &problem);
-  // Without banking data xi would be a free constant (or fitted to noise): it is held at zero.
-  SetManifolds(options.level || !input.carries_banking, ribbon, &problem);
+  // Without banking data xi would be a free constant (or fitted to noise): it is held at zero,
+  // out of the problem.
+  if (options.level || !input.carries_banking) {
+    Level(ribbon);
+    AddDynamicsAndSmoothness<kLevelStates>(options, ribbon, &problem);
+    AddObservations<kLevelStates>(input, stations, options, ribbon, &problem);
+  } else {
+    AddDynamicsAndSmoothness<kNumRibbonStates>(options, ribbon, &problem);
+    AddObservations<kNumRibbonStates>(input, stations, options, ribbon, &problem);
+  }
   ceres::Solver::Options solver;
   solver.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;  // CHOLMOD: faster here than Eigen's
                                                                // (docs/lap_log.md "Eigen's sparse Cholesky")
@@ -148,7 +149,7 @@ ceres::Solver::Summary SolvePass(const RoadInput& input, const std::vector<Stati
 void MaxDefects(const Ribbon& ribbon, FitSummary* summary) {
   RibbonScales unit;
   unit.fill(1.0 / ribbon.h);  // DynamicsDefect divides by h * tol: this makes it the raw defect
-  const DynamicsDefect defect(ribbon.h, unit);
+  const DynamicsDefect<> defect(ribbon.h, unit);
   summary->max_defect_position_m = summary->max_defect_angle_rad = 0.0;
   for (size_t k = 0; k < ribbon.u.size(); ++k) {
     double r[kNumRibbonStates];
@@ -166,7 +167,7 @@ void PointResiduals(const RoadInput& input, const std::vector<Station>& stations
   for (size_t i = 0; i < input.points.size(); ++i) {
     const Observation& o = input.points[i];
     const Station& st = stations[i];
-    const BorderDistance unit_distance(st.t, kSideSign[static_cast<int>(o.side)], {o.x_m, o.y_m, o.z_m}, {1, 1, 1});
+    const BorderDistance<> unit_distance(st.t, kSideSign[static_cast<int>(o.side)], {o.x_m, o.y_m, o.z_m}, {1, 1, 1});
     double r[3];
     unit_distance(ribbon.x[st.interval].data(), ribbon.x[st.interval + 1].data(), r);
     const double s = (1 - st.t) * ribbon.x[st.interval][kS] + st.t * ribbon.x[st.interval + 1][kS];

@@ -41,6 +41,28 @@ TEST(RoadInput, LocalLongFormWithSideAliases) {
   EXPECT_EQ(CountSide(in, Side::kLeft), 12u);
   EXPECT_EQ(CountSide(in, Side::kRight), 12u);
   EXPECT_TRUE(in.has_elevation);
+  EXPECT_TRUE(in.carries_banking);  // its borders' own elevations
+}
+
+// The banking is fitted where the input carries it: border points with their own elevations, or
+// a centre line's banking column; not borders whose elevations come from --elevation, nor a
+// centre line without the column.
+TEST(RoadInput, WhatCarriesTheBanking) {
+  std::string geographic = "side,lat,lon\n";
+  for (int i = 0; i < 12; ++i)
+    for (const char* side : {"left", "right"})
+      geographic += std::string(side) + "," + std::to_string(54.2 + i * 1e-4) + "," +
+                    std::to_string(-4.5 + (side[0] == 'l' ? -5e-5 : 5e-5)) + "\n";
+  ReadOptions options;
+  options.elevation_source = Write("poly_b.csv", "lat,lon,elevation\n54.19,-4.5,10\n54.21,-4.5,30\n");
+  EXPECT_FALSE(ReadRoadInput(Write("borders_dem.csv", geographic), options).carries_banking);
+  options.width_m = 7;
+  EXPECT_FALSE(ReadRoadInput(Write("centre_b.csv", CentreLine(20)), options).carries_banking);
+  std::string banked = "x_m,y_m,width,banking_deg\n";
+  for (int i = 0; i < 12; ++i) banked += std::to_string(i * 5.0) + ",0,7," + std::to_string(-i) + "\n";
+  const RoadInput in = ReadRoadInput(Write("banked_b.csv", banked), {});
+  EXPECT_TRUE(in.carries_banking);
+  EXPECT_NEAR(in.points[5].banking_rad, -5.0 * M_PI / 180.0, 1e-12);
 }
 
 TEST(RoadInput, GeographicCentreLineGetsAFrameAndTheDefaultWidth) {
@@ -133,7 +155,11 @@ TEST(RoadInput, RealTracksInEveryForm) {
     EXPECT_EQ(in.format, "centre-line") << track;
     EXPECT_GT(in.points.front().width_m, 10.0) << track;  // right + left
   }
-  EXPECT_EQ(ReadRoadInput(kData + "/tracks/las-vegas-centreline-banking.csv", {}).points.size(), 9762u);
+  const RoadInput oval = ReadRoadInput(kData + "/tracks/las-vegas-centreline-banking.csv", {});
+  EXPECT_EQ(oval.points.size(), 9762u);
+  EXPECT_TRUE(oval.carries_banking);
+  EXPECT_NEAR(oval.points.front().banking_rad, -0.1571, 1e-12);  // its first row's banking_rad
+  EXPECT_TRUE(panorama.carries_banking);
 }
 
 TEST(RoadInput, LocalInputCannotUseAnElevationSource) {

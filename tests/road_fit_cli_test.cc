@@ -145,8 +145,8 @@ TEST_F(RoadFitCli, DuplicateConsecutivePointsAreToleratedWithAWarning) {
 // A banked centre line in local metres (as ../shared/data/tracks/las-vegas-centreline-banking.csv):
 // a 400 m left arc of 300 m radius, banked 0.15 rad with its outer (right) border the higher.
 // road.h5 carries the banking, in radians or from degrees, and the in-plane curvature it tilts;
-// a centre line without the column is level; a banking without a unit, or beyond 45 degrees, is
-// refused in one line.
+// a centre line without the column, or fitted with --level, is level; a banking without a unit,
+// or beyond 45 degrees, is refused in one line.
 TEST_F(RoadFitCli, ABankedCentreLineKeepsItsBanking) {
   const auto rows = [](const std::string& banking) {
     std::ostringstream text;
@@ -175,6 +175,11 @@ TEST_F(RoadFitCli, ABankedCentreLineKeepsItsBanking) {
   const CliRun level = RoadFit(File("level.csv", "x_m,y_m,w_tr_right_m,w_tr_left_m\n" + rows("")));
   ASSERT_EQ(level.exit_code, 0) << level.stderr_text;
   for (double xi : ttz::ReadRoad(Output()).banking) ASSERT_EQ(xi, 0.0);
+  ASSERT_EQ(RoadFit(File("banked.csv", "x_m,y_m,w_tr_right_m,w_tr_left_m,banking_rad\n" + rows(",-0.15")) +
+                    " --level").exit_code, 0);
+  const ttz::RoadArtefact held = ttz::ReadRoad(Output());
+  for (double xi : held.banking) ASSERT_EQ(xi, 0.0);
+  EXPECT_NEAR(held.kappa[middle()], 1.0 / 300.0, 2e-5);  // the level turn again
   fs::remove(Output());
   const auto bare = File("bare.csv", "x_m,y_m,w_tr_right_m,w_tr_left_m,banking\n" + rows(",-0.15"));
   ExpectBadInput(RoadFit(bare), bare + ": column 'banking': banking without a unit: name it banking_rad or banking_deg");

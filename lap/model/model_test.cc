@@ -3,6 +3,8 @@
 #include <ceres/ceres.h>
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 
 #include "lap/model/constraints.h"
@@ -25,6 +27,7 @@ RoadPoint Curvy() {
   r.dnu = -2e-5;
   r.dtau = 3e-5;
   r.sigma = 0.05;
+  r.xi = 0.04;
   r.width = 7.0;
   return r;
 }
@@ -193,6 +196,28 @@ TEST(ModelTest, StateBoundsAreAffineInTheirStateAndBoundOfReadsTheirLimit) {
               1e-12);
   EXPECT_FALSE(StateBoundOf(v, kCharge, Curvy()).upper);
   EXPECT_NEAR(StateBoundOf(v, kCharge, Curvy()).value, 0.0, 1e-12);
+}
+
+// Gravity in eq. 13a-c (lap/model/chassis.h) is the road frame's (x forward, y right, z down)
+// g (-sin(sigma), sin(xi), cos(xi)) seen from the vehicle's frame, turned by alpha about z, with
+// cos(sigma) ~ 1 as in the paper: from a road without slope and banking, each equation's constant
+// part changes by -M times the change of its component (on the normal, from the paper's g).
+TEST(ModelTest, GravityIsTheSlopedAndBankedRoadsInTheVehiclesFrame) {
+  const Vehicle v = Bx15();
+  const StateVector<double> x = SomeState(v, 25.0);  // alpha 0.03 rad
+  RoadPoint flat = Curvy(), tilted = Curvy();
+  flat.sigma = flat.xi = 0.0;
+  tilted.sigma = 0.12;
+  tilted.xi = -0.3;
+  const Kinematics<double> k = ComputeKinematics(x, ControlVector<double>{0.0, 0.0}, flat);
+  const ChassisLoads<double> loads{500.0, -800.0, 2500.0, 200.0, 10.0, x[kTauW], 5.0};
+  const auto a = NewtonEuler(v, x, k, loads, flat), b = NewtonEuler(v, x, k, loads, tilted);
+  const Eigen::Vector3d road_gravity(-std::sin(tilted.sigma), std::sin(tilted.xi), std::cos(tilted.xi));
+  const Eigen::Vector3d vehicle_gravity =
+      v.g * (Eigen::AngleAxisd(x[kAlpha], Eigen::Vector3d::UnitZ()).toRotationMatrix().transpose() * road_gravity);
+  EXPECT_NEAR(b[0].c - a[0].c, -v.M * vehicle_gravity.x(), 1e-9 * v.M * v.g);
+  EXPECT_NEAR(b[1].c - a[1].c, -v.M * vehicle_gravity.y(), 1e-9 * v.M * v.g);
+  EXPECT_NEAR(b[2].c - a[2].c, -v.M * (vehicle_gravity.z() - v.g), 1e-9 * v.M * v.g);
 }
 
 TEST(ModelTest, StraightLevelCoastingDeceleratesByDragAndRolling) {

@@ -8,7 +8,7 @@ namespace ttz::lap {
 struct RoadPoint {
   double s = 0.0;       // arc length [m]
   double kappa = 0.0;   // curvature in the road plane, right turn positive [1/m] (eq. 12)
-  double nu = 0.0;      // curvature in the sagittal plane, sigma' [1/m] (eq. 12)
+  double nu = 0.0;      // normal curvature [1/m] (eq. 12; sigma' on a road without banking)
   double tau = 0.0;     // torsion [1/m] (eq. 12)
   double dkappa = 0.0, dnu = 0.0, dtau = 0.0;  // d/ds of the three [1/m^2]
   double sigma = 0.0;   // slope, uphill positive [rad]

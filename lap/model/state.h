@@ -16,8 +16,8 @@
 // state constraint.
 //
 // Sign convention of the model (the paper's): x forward, y right, z down. Compared with road.h5
-// (x forward, y left, z up), n, alpha and kappa change sign; sigma, nu and tau do not
-// (docs/lap.md, section "Frames").
+// (x forward, y left, z up), n, alpha and kappa change sign; sigma, xi (banking), nu and tau do
+// not (docs/lap.md, section "Frames").
 #pragma once
 
 #include <array>
