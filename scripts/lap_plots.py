@@ -17,7 +17,8 @@ Writes into OUTDIR (created if missing), each file atomically:
                      each bike value costs [s] (negative: buys), largest at the top
   map.png            (--road) the bike's path coloured by speed [km/h] on the road's local
                      east/north frame [km]; path = centre line + n along the model's right normal
-  elevation.png      (--road) centre-line elevation z [m] and slope tan(sigma) [%] vs distance
+  elevation.png      (--road) centre-line elevation z [m], slope tan(sigma) [%] and, on a banked
+                     road, banking [deg] (road.h5 version 2; version 1 is level) vs distance
   summary.md         lap time (m:ss.s), energy used (MJ, % of the pack), top speed
 road.h5 always holds planar x/y (docs/road_h5.md: local transverse Mercator metres), so the map
 uses them, not lat/lon. The road must be the lap's: its length within 1 m of the lap's
@@ -41,7 +42,7 @@ RESIM_PANELS = (("path and power train", ("n", "alpha", "V", "T", "e", "Omega_z"
 RESIM_TOLERANCE = 1e-3  # the check's 0.1 % (lap/resimulate.h)
 RESIM_FLOOR = 1e-12     # plotted in place of 0 (the first node) on the log axis
 SENSITIVITY_BARS = 15
-ROAD_CHANNELS = ("s", "x", "y", "z", "theta", "sigma")
+ROAD_CHANNELS = ("s", "x", "y", "z", "theta", "sigma", "banking")
 ROAD_LENGTH_TOLERANCE_M = 1.0
 KMH = 3.6  # (km/h) per (m/s)
 
@@ -219,11 +220,21 @@ def map_figure(plt, lap, road):
     return figure
 
 
-def elevation_figure(plt, road):
-    """Elevation z [m] and slope tan(sigma) [%] vs s."""
+def road_panels(road):
+    """(label, values, scale) of elevation z [m], slope tan(sigma) [%] and, on a banked road,
+    banking [deg], and the figure's title."""
     panels = [("elevation z [m]", road["z"], 1.0),
               ("slope [%]", np.tan(road["sigma"]), 100.0)]
-    return stacked_figure(plt, road["s"], panels, "road: elevation and slope (uphill positive)")
+    if np.any(road["banking"] != 0.0):
+        panels.append(("banking [deg]", np.degrees(road["banking"]), 1.0))
+        return panels, "road: elevation, slope (uphill positive) and banking (left border higher positive)"
+    return panels, "road: elevation and slope (uphill positive)"
+
+
+def elevation_figure(plt, road):
+    """The road's panels (road_panels) vs s."""
+    panels, title = road_panels(road)
+    return stacked_figure(plt, road["s"], panels, title)
 
 
 def figures(plt, lap, road):
@@ -249,7 +260,7 @@ def parse_args():
     """Command line."""
     parser = ttz_h5.argument_parser(__doc__)
     parser.add_argument("lap", help="lap.h5")
-    parser.add_argument("--road", help="road.h5 of the lap (map, elevation and slope plots)")
+    parser.add_argument("--road", help="road.h5 of the lap (map, elevation, slope and banking plots)")
     parser.add_argument("-o", "--outdir", required=True, help="output folder")
     return parser.parse_args()
 

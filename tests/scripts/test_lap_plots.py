@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """lap_plots.py on tiny lap.h5 / road.h5 fixtures: every file written, bad input refused."""
 import os
+import sys
 import unittest
 
 import ttz_fixtures as fx
@@ -35,6 +36,21 @@ class LapPlotsTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
         self.assertIn("25.0 %", summary)       # energy_fraction 0.25
         self.assertIn("30.0 m/s", summary)     # top_speed
         self.assert_no_temporaries(self.out)
+
+    def test_banking_is_plotted_when_the_road_has_it(self):
+        lap = fx.write_lap(self.path("lap.h5"))
+        banked = fx.write_road(self.path("banked.h5"), banking=-0.2)
+        self.assert_ok(fx.run("lap_plots.py", lap, "--road", banked, "-o", self.out))
+        self.assert_files(PNGS_ROAD)
+        sys.path.insert(0, fx.SCRIPTS)
+        import lap_plots
+        for road, labels in ((banked, ["elevation z [m]", "slope [%]", "banking [deg]"]),
+                             (fx.write_road(self.path("level.h5")), ["elevation z [m]", "slope [%]"])):
+            channels = lap_plots.read_road(road, fx.LAP_LENGTH_M)
+            panels, _ = lap_plots.road_panels(channels)
+            self.assertEqual([label for label, _, _ in panels], labels)
+        self.assertAlmostEqual(float(lap_plots.road_panels(lap_plots.read_road(banked, fx.LAP_LENGTH_M))[0][2][1][0]),
+                               -11.459, places=3)
 
     def test_omega_z_as_state_and_no_road(self):
         for version in (2, 3):  # version 3 adds control_interval/, which the plots do not read
