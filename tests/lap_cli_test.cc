@@ -37,6 +37,18 @@ std::string ReadText(const std::string& path) {
   return text.str();
 }
 
+// Makes the artefact at `path` look as an older version wrote it: without the group or dataset
+// `added` that `version` did not have, and with that schema_version.
+void AsAnOlderVersion(const std::string& path, const char* added, int64_t version) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  EXPECT_GE(H5Ldelete(file, added, H5P_DEFAULT), 0);
+  const hid_t attribute = H5Aopen(file, "schema_version", H5P_DEFAULT);
+  EXPECT_GE(H5Awrite(attribute, H5T_NATIVE_INT64, &version), 0);
+  H5Aclose(attribute);
+  H5Fclose(file);
+}
+
 // A straight level road of `length` metres sampled every metre, `width(s)` wide.
 ttz::RoadArtefact StraightRoad(double length, double (*width)(double) = [](double) { return 8.0; }) {
   ttz::RoadArtefact r;
@@ -375,14 +387,7 @@ TEST_F(LapCli, OneIntervalAndVersion2LapsWarmStart) {
   EXPECT_EQ(Lap(options + " --ds 10 --init " + Path("one.h5"), "from_one.h5").exit_code, 0);
 
   ASSERT_EQ(Lap(options + " --ds 10", "v3.h5").exit_code, 0);
-  const hid_t file = H5Fopen(Path("v3.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-  ASSERT_GE(file, 0);
-  EXPECT_GE(H5Ldelete(file, "control_interval", H5P_DEFAULT), 0);
-  const int64_t version = 2;
-  const hid_t attribute = H5Aopen(file, "schema_version", H5P_DEFAULT);
-  EXPECT_GE(H5Awrite(attribute, H5T_NATIVE_INT64, &version), 0);
-  H5Aclose(attribute);
-  H5Fclose(file);
+  ASSERT_NO_FATAL_FAILURE(AsAnOlderVersion(Path("v3.h5"), "control_interval", 2));
   const CliRun from_v2 = Lap(options + " --ds 10 --init " + Path("v3.h5"), "from_v2.h5");
   EXPECT_EQ(from_v2.exit_code, 0) << from_v2.stderr_text;
   EXPECT_TRUE(ttz::ArtefactReader(Path("from_v2.h5"), "ttz.lap", 4).ReadBoolAttribute("mesh_from_init"));
@@ -474,14 +479,7 @@ TEST_F(LapCli, AVersion1RoadIsLevelAcross) {
   const std::string road = Road("road.h5", StraightRoad(100.0));
   const std::string options = " " + kBike + " -q --ds 10";
   ASSERT_EQ(Lap(road + options, "v2.h5").exit_code, 0);
-  const hid_t file = H5Fopen(road.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-  ASSERT_GE(file, 0);
-  EXPECT_GE(H5Ldelete(file, "banking", H5P_DEFAULT), 0);
-  const int64_t version = 1;
-  const hid_t attribute = H5Aopen(file, "schema_version", H5P_DEFAULT);
-  EXPECT_GE(H5Awrite(attribute, H5T_NATIVE_INT64, &version), 0);
-  H5Aclose(attribute);
-  H5Fclose(file);
+  ASSERT_NO_FATAL_FAILURE(AsAnOlderVersion(road, "banking", 1));
   const CliRun v1 = Lap(road + options, "v1.h5");
   ASSERT_EQ(v1.exit_code, 0) << v1.stderr_text;
   EXPECT_EQ(ttz::ArtefactReader(Path("v1.h5"), "ttz.lap", 4).ReadDoubleAttribute("lap_time"),
