@@ -95,30 +95,20 @@ struct BorderDistance {
   std::array<double, 3> sigma;  // across [m], vertical [m], along [m]
 };
 
-// A measured width (centre-line inputs) against r_w at fraction t of the interval.
-struct WidthObservation {
-  WidthObservation(double t, double width_m, double sigma_m) : t(t), w(width_m), sigma(sigma_m) {}
+// A measured state of centre-line inputs, the width r_w [m] or the banking xi [rad], against the
+// state at fraction t of the interval, over its sigma (in the state's unit).
+struct StateObservation {
+  StateObservation(RibbonState state, double t, double measured, double sigma)
+      : state(state), t(t), measured(measured), sigma(sigma) {}
 
   template <typename T>
   bool operator()(const T* x0, const T* x1, T* r) const {
-    r[0] = ((T(1.0) - T(t)) * x0[kWidth] + T(t) * x1[kWidth] - T(w)) / T(sigma);
+    r[0] = ((T(1.0) - T(t)) * x0[state] + T(t) * x1[state] - T(measured)) / T(sigma);
     return true;
   }
 
-  double t, w, sigma;
-};
-
-// A measured banking (centre-line inputs) against xi at fraction t of the interval.
-struct BankingObservation {
-  BankingObservation(double t, double banking_rad, double sigma_rad) : t(t), xi(banking_rad), sigma(sigma_rad) {}
-
-  template <typename T>
-  bool operator()(const T* x0, const T* x1, T* r) const {
-    r[0] = ((T(1.0) - T(t)) * x0[kXi] + T(t) * x1[kXi] - T(xi)) / T(sigma);
-    return true;
-  }
-
-  double t, xi, sigma;
+  RibbonState state;
+  double t, measured, sigma;
 };
 
 // A closed circuit ends where it starts: every state but s equal at both ends, the heading after

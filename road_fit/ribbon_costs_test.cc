@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 #include <vector>
 
 namespace ttz::road {
@@ -151,18 +152,16 @@ TEST(RibbonCosts, CentreDistanceIgnoresWidth) {
   for (int i = 0; i < 3; ++i) EXPECT_EQ(a[i], b[i]);
 }
 
-TEST(RibbonCosts, WidthObservationGradient) {
+TEST(RibbonCosts, StateObservationGradientAndValue) {
   State x0 = Node(0.0), x1 = Node(1.0);
-  ceres::AutoDiffCostFunction<WidthObservation, 1, kNumRibbonStates, kNumRibbonStates> cost(
-      new WidthObservation(0.25, 6.5, 0.5));
-  ExpectGradientsMatch(cost, {x0.data(), x1.data()});
-}
-
-TEST(RibbonCosts, BankingObservationGradient) {
-  State x0 = Node(0.0), x1 = Node(1.0);
-  ceres::AutoDiffCostFunction<BankingObservation, 1, kNumRibbonStates, kNumRibbonStates> cost(
-      new BankingObservation(0.25, -0.1, 0.01));
-  ExpectGradientsMatch(cost, {x0.data(), x1.data()});
+  for (const auto& [state, measured, sigma] : {std::tuple{kWidth, 6.5, 0.5}, std::tuple{kXi, -0.1, 0.01}}) {
+    ceres::AutoDiffCostFunction<StateObservation, 1, kNumRibbonStates, kNumRibbonStates> cost(
+        new StateObservation(state, 0.25, measured, sigma));
+    ExpectGradientsMatch(cost, {x0.data(), x1.data()});
+    double r;
+    StateObservation(state, 0.25, measured, sigma)(x0.data(), x1.data(), &r);
+    EXPECT_NEAR(r, (0.75 * x0[state] + 0.25 * x1[state] - measured) / sigma, 1e-12) << state;
+  }
 }
 
 TEST(RibbonCosts, ClosureGradientAndTurns) {

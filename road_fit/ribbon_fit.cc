@@ -102,13 +102,13 @@ void AddObservations(const RoadInput& input, const std::vector<Station>& station
             {options.sigma_lateral_m, options.sigma_vertical_m, options.sigma_along_m})),
         loss, x0, x1);
     if (o.side == Side::kCentre && std::isfinite(o.width_m))
-      problem->AddResidualBlock(new ceres::AutoDiffCostFunction<WidthObservation, 1, N, N>(
-                                    new WidthObservation(st.t, o.width_m, options.sigma_width_m)),
+      problem->AddResidualBlock(new ceres::AutoDiffCostFunction<StateObservation, 1, N, N>(
+                                    new StateObservation(kWidth, st.t, o.width_m, options.sigma_width_m)),
                                 nullptr, x0, x1);
     if constexpr (N > kXi)
       if (std::isfinite(o.banking_rad))
-        problem->AddResidualBlock(new ceres::AutoDiffCostFunction<BankingObservation, 1, N, N>(
-                                      new BankingObservation(st.t, o.banking_rad, options.sigma_banking_rad)),
+        problem->AddResidualBlock(new ceres::AutoDiffCostFunction<StateObservation, 1, N, N>(
+                                      new StateObservation(kXi, st.t, o.banking_rad, options.sigma_banking_rad)),
                                   nullptr, x0, x1);
   }
 }
