@@ -22,6 +22,10 @@ Columns:
   re-simulation     the lap time's difference (resim_lap_time_relative) [%], then "passed" or the
                     state that differs most with its difference (resim_worst_state,
                     resim_max_state_difference) [% of the state's scale]
+  largest sensitivity  the bike.yaml value whose 1 % more changes the lap time most
+                    (sensitivity/*, the indirect solver's laps; design values and conditions such as
+                    gravity alike) with that change [s] (negative: faster), or "-" for a lap
+                    without sensitivities
 
 Writes report.md atomically (its folder created if missing) and prints it on stdout. Bad input
 (a missing file, a file that is not a lap.h5, no road.h5 beside a lap or one of another length, a
@@ -40,7 +44,7 @@ import ttz_h5
 KMH = 3.6  # (km/h) per (m/s)
 HEADER = ("circuit", "length [km]", "elevation range [m]", "tightest radius [m]", "largest banking [deg]", "lap time",
           "average speed [km/h]", "top speed [km/h]", "energy used [MJ]", "start", "converged",
-          "re-simulation")
+          "re-simulation", "largest sensitivity (1 % more)")
 
 
 def checked(path, name, value, positive=False):
@@ -61,7 +65,8 @@ def read_lap_figures(lap_path):
         row.update(converged=lap.attr("converged", int), message=lap.attr("message", str),
                    start=lap.optional_attr("start", str, "standing"),
                    start_speed=checked(lap_path, "state/V", float(speed[0]) if speed.size else math.nan),
-                   resim_passed=lap.optional_attr("resim_passed", int))
+                   resim_passed=lap.optional_attr("resim_passed", int),
+                   largest=ttz_h5.largest_sensitivities(ttz_h5.sensitivities(lap), 1)[0])
         if row["resim_passed"] is not None:  # the check's figures come with its verdict
             row.update(resim_time=checked(lap_path, "resim_lap_time_relative", lap.attr("resim_lap_time_relative")),
                        resim_state=checked(lap_path, "resim_max_state_difference",
@@ -96,6 +101,14 @@ def resim_text(row):
     return text + f"{row['resim_worst']} {100 * row['resim_state']:.1f} % (failed)"
 
 
+def sensitivity_text(row):
+    """The bike value the lap time is most sensitive to, with its seconds per 1 % more, or "-"."""
+    if not row["largest"]:
+        return "-"
+    key, _, per_percent = row["largest"][0]
+    return f"`{key}` {per_percent:+.2f} s"
+
+
 def table_row(row):
     """The markdown cells of one circuit."""
     radius = 1.0 / row["kappa_max"] if row["kappa_max"] > 0 else float("inf")
@@ -103,7 +116,8 @@ def table_row(row):
             f"{radius:.1f}", f"{row['banking_max']:.1f}", lap_plots.format_lap_time(row["lap_time"]),
             f"{KMH * row['road_length'] / row['lap_time']:.1f}", f"{KMH * row['top_speed']:.1f}",
             f"{row['energy_used'] / 1e6:.2f} ({100 * row['energy_fraction']:.1f} %)",
-            f"{row['start']} at {KMH * row['start_speed']:.1f} km/h", "yes" if row["converged"] else "no: " + row["message"], resim_text(row)]
+            f"{row['start']} at {KMH * row['start_speed']:.1f} km/h", "yes" if row["converged"] else "no: " + row["message"],
+            resim_text(row), sensitivity_text(row)]
 
 
 def report_text(rows):
