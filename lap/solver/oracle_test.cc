@@ -49,6 +49,17 @@ TEST(OracleTest, SBendsOverACrestAndADip) {
                    1e-4, 19.4312, 23, 352});
 }
 
+TEST(OracleTest, BankedSBends) {
+  // The S-bends above, level, each banked towards its centre in step with its curvature (up to
+  // 0.15 rad, 8.6 degrees, where the radius is 50 m): the banking's gravity and its rate in the
+  // torsion (lap/model/chassis.h, road_fit/ribbon.h).
+  const auto kappa = [](double s) { return 0.02 * std::sin(2 * kPi * s / 200); };
+  ExpectAgreement({"banked S-bends, 400 m",
+                   testing::SyntheticRoad(400.0, 8.0, kappa, testing::Zero,
+                                          [=](double s) { return -7.5 * kappa(s); }),
+                   1e-4, 17.2709, 24, 342});
+}
+
 TEST(OracleTest, HairpinOnADescent) {
   // A 15 m radius hairpin (about 180 degrees), ramped over 10 m at each end, on a 6 % descent.
   ExpectAgreement(
