@@ -91,6 +91,19 @@ RoadArtefact MakeRoadArtefact(const RoadInput& input, const RoadProfile& profile
   return road;
 }
 
+namespace {
+
+// "none (level across)", or the largest banking [deg], which border is the higher and where.
+std::string BankingText(const RoadArtefact& road, size_t i) {
+  if (road.banking[i] == 0.0) return "none (level across)";
+  char text[160];
+  std::snprintf(text, sizeof text, "%.1f deg (%s border higher) %s", std::abs(road.banking[i]) * 180.0 / M_PI,
+                road.banking[i] > 0 ? "left" : "right", Place(road, i).c_str());
+  return text;
+}
+
+}  // namespace
+
 std::string FitReport(const RoadArtefact& road) {
   size_t steepest = 0, tightest = 0, banked = 0;
   for (size_t i = 0; i < road.s.size(); ++i) {
@@ -107,7 +120,7 @@ std::string FitReport(const RoadArtefact& road) {
                 "elevation        %.1f to %.1f m (range %.1f m)\n"
                 "steepest slope   %.1f %% (%s) %s\n"
                 "tightest radius  %.1f m (%s) %s\n"
-                "largest banking  %.1f deg (%s higher) %s\n"
+                "largest banking  %s\n"
                 "largest defect   %.2e m, %.2e rad\n"
                 "solver           %s, %lld iterations, %.2f s\n",
                 road.length_m, road.closed ? "closed" : "open", road.point_s.size(), road.rms_distance_m,
@@ -115,8 +128,7 @@ std::string FitReport(const RoadArtefact& road) {
                 100 * std::tan(road.sigma[steepest]), road.sigma[steepest] > 0 ? "uphill" : "downhill",
                 Place(road, steepest).c_str(), 1.0 / std::abs(road.kappa[tightest]),
                 road.kappa[tightest] > 0 ? "left" : "right", Place(road, tightest).c_str(),
-                std::abs(road.banking[banked]) * 180.0 / M_PI, road.banking[banked] >= 0 ? "left" : "right",
-                Place(road, banked).c_str(), road.max_defect_position_m,
+                BankingText(road, banked).c_str(), road.max_defect_position_m,
                 road.max_defect_angle_rad, road.converged ? "converged" : "NOT CONVERGED",
                 static_cast<long long>(road.iterations), road.solve_seconds);
   return text;
