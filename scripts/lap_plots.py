@@ -16,7 +16,7 @@ Writes into OUTDIR (created if missing), each file atomically:
                      the SENSITIVITY_BARS largest design sensitivities, the lap time 1 % more of
                      each bike value costs [s] (negative: buys), largest at the top
   map.png            (--road) the bike's path coloured by speed [km/h] on the road's local
-                     east/north frame [km]; path = centre line + n along the model's right normal
+                     east/north frame [km]; path = centre line + n across the (banked) road surface
   elevation.png      (--road) centre-line elevation z [m], slope tan(sigma) [%] and, on a banked
                      road, banking [deg] (road.h5 version 2; version 1 is level) vs distance
   summary.md         lap time (m:ss.s), energy used (MJ, % of the pack), top speed
@@ -191,10 +191,14 @@ def sensitivity_figure(plt, lap):
 
 def bike_path(lap, road):
     """East/north [m] of the bike: the centre line interpolated at the lap's s, moved by n
-    (right positive) along the right normal (sin theta, -cos theta)."""
-    x, y, theta = (np.interp(lap["s"], road["s"], road[k]) for k in ("x", "y", "theta"))
+    (right positive) across the road surface: minus the east/north part of the road's left
+    vector, (-cos xi sin theta - sin xi sin sigma cos theta, cos xi cos theta - sin xi sin sigma
+    sin theta) (docs/road_h5.md), which is the horizontal normal on a road without banking."""
+    x, y, theta, sigma, xi = (np.interp(lap["s"], road["s"], road[k]) for k in ("x", "y", "theta", "sigma", "banking"))
     n = lap["state/n"]
-    return x + n * np.sin(theta), y - n * np.cos(theta)
+    left_x = -np.cos(xi) * np.sin(theta) - np.sin(xi) * np.sin(sigma) * np.cos(theta)
+    left_y = np.cos(xi) * np.cos(theta) - np.sin(xi) * np.sin(sigma) * np.sin(theta)
+    return x - n * left_x, y - n * left_y
 
 
 def map_figure(plt, lap, road):

@@ -4,6 +4,8 @@ import os
 import sys
 import unittest
 
+import numpy as np
+
 import ttz_fixtures as fx
 
 PNGS_LAP = ("speed.png", "battery.png", "motor.png", "power.png", "yaw_roll.png")
@@ -51,6 +53,21 @@ class LapPlotsTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
             self.assertEqual([label for label, _, _ in panels], labels)
         self.assertAlmostEqual(float(lap_plots.road_panels(lap_plots.read_road(banked, fx.LAP_LENGTH_M))[0][2][1][0]),
                                -11.459, places=3)
+
+    def test_the_path_moves_across_the_banked_surface(self):
+        """On a level road n moves the bike along the horizontal right normal; banked 60 degrees,
+        half as far in the plane (the rest is height)."""
+        sys.path.insert(0, fx.SCRIPTS)
+        import lap_plots
+        s = np.array([0.0, 10.0])
+        lap = {"s": s, "state/n": np.array([2.0, 2.0])}
+        road = {"s": s, "x": s, "y": np.zeros(2), "theta": np.zeros(2), "sigma": np.zeros(2), "banking": np.zeros(2)}
+        x, y = lap_plots.bike_path(lap, road)  # heading east: right is south
+        np.testing.assert_allclose(y, [-2.0, -2.0], atol=1e-12)
+        road["banking"] = np.full(2, np.pi / 3)
+        x, y = lap_plots.bike_path(lap, road)
+        np.testing.assert_allclose(x, s, atol=1e-12)
+        np.testing.assert_allclose(y, [-1.0, -1.0], atol=1e-12)
 
     def test_omega_z_as_state_and_no_road(self):
         for version in (2, 3):  # version 3 adds control_interval/, which the plots do not read
