@@ -75,9 +75,10 @@ def add_sensitivities(path, per_percent):
     return path
 
 
-def write_road(path, length=LAP_LENGTH_M, banking=None):
+def write_road(path, length=LAP_LENGTH_M, banking=None, closed=False):
     """A road of `length` [m] curving left on a 500 m radius, rising 1 % (x east, y north, z up);
-    version 1 (level across) or, with `banking` [rad], version 2 banked so all along."""
+    version 1 (level across) or, with `banking` [rad], version 2 banked so all along; with
+    `closed`, the attribute closed = 1 (the geometry stays open: enough for the scripts)."""
     s = np.linspace(0.0, length, 201)
     theta = s / 500.0
     channels = {"s": (s, "m"), "x": (500 * np.sin(theta), "m"), "y": (500 * (1 - np.cos(theta)), "m"),
@@ -88,7 +89,8 @@ def write_road(path, length=LAP_LENGTH_M, banking=None):
             _dataset(h5, name, values, units)
         if banking is not None:
             _dataset(h5, "banking", np.full_like(s, banking), "rad")
-        h5.attrs.update({"schema": "ttz.road", "schema_version": 1 if banking is None else 2, "length_m": length})
+        h5.attrs.update({"schema": "ttz.road", "schema_version": 1 if banking is None else 2, "length_m": length,
+                         "closed": np.int8(closed)})
     return path
 
 
