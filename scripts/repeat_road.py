@@ -5,17 +5,20 @@ race) or, with three laps, a near-periodic lap in the middle one (docs/lap.md "F
 
 usage: repeat_road.py ROAD.h5 -n N -o ROAD_N.h5
 
-The input must be a closed road (attribute closed = 1: road_fit --closed). Every dataset along s
-is repeated N times without the duplicate joins (the last sample of a lap is the first of the
-next): s goes on from the lap's length, theta from the turn of a lap (its last minus first
-value), every other channel (x, y, z, sigma, banking, width, kappa, nu, tau, borders, lat/lon)
-repeats as it is. The datasets per input point (points/*) are the first lap's, as road_fit
-wrote them. Attributes are copied, length_m becomes N times the lap's, and `laps` = N is added;
-the schema version stays the input's.
+The input must be a closed road (attribute closed = 1: road_fit --closed) with s uniformly
+spaced, as road_fit writes it. Every dataset along s is repeated N times without the duplicate
+joins (the last sample of a lap is the first of the next): s goes on from the lap's last s,
+theta from the turn of a lap (its last minus first value), every other channel (x, y, z, sigma,
+banking, width, kappa, nu, tau, borders, lat/lon) repeats as it is. The datasets per input point
+(points/*) are the first lap's, as road_fit wrote them. Attributes are copied; length_m and the
+attribute `laps` (1 when absent) are multiplied by N, and `repeated_from` names the input file
+(docs/road_h5.md); the schema version stays the input's. scripts/lap_splits.py gives the laps'
+times of a lap.h5 solved on it.
 
-Writes ROAD_N.h5 atomically. Bad input (a missing file, a file that is not a road.h5, an open
-road, an along-s dataset whose length is not that of s) is one line on stderr, exit status 1
-(2 for a usage error such as N < 2), and nothing is written.
+Writes ROAD_N.h5 atomically (gzip-compressed datasets). Bad input (a missing file, a file that
+is not a road.h5, an open road, a missing or non-numeric s, theta or length_m, an s that is not
+uniformly increasing, an along-s dataset whose length is not that of s) is one line on stderr,
+exit status 1 (2 for a usage error such as N < 2), and nothing is written.
 """
 import numpy as np
 
@@ -30,13 +33,23 @@ def at_least_two(text):
     return value
 
 
+UNIFORM = 1e-6  # largest relative deviation of an s step from the first (lap/road_track.cc's rule)
+
+
 def read_road(path):
-    """{name: (values, attributes)} of every dataset, the file's attributes, checked closed."""
+    """{name: (values, attributes)} of every dataset, the file's attributes, checked: closed, with
+    s uniformly increasing, theta beside it and a numeric length_m."""
     road = ttz_h5.open_road(path)
     try:
         if not road.attr("closed", int):
             raise ttz_h5.InputError(path, "an open road (closed = 0): only a circuit can be driven again "
                                     "(road_fit --closed)")
+        s = road.data("s")
+        road.data("theta", s.size)
+        road.attr("length_m")
+        steps = np.diff(s)
+        if s.size < 2 or not np.all(np.abs(steps - steps[0]) <= UNIFORM * steps[0]) or steps[0] <= 0:
+            raise ttz_h5.InputError(path, "dataset 's' is not uniformly increasing (as road_fit writes it)")
         datasets = {}
         road.h5.visititems(lambda name, obj: datasets.update({name: (obj[()], dict(obj.attrs))})
                            if hasattr(obj, "shape") else None)
@@ -54,7 +67,7 @@ def repeated(name, values, laps, length, turn):
 def repeat(path, datasets, attrs, laps):
     """{name: (values, attributes)} and the attributes of the road driven `laps` times."""
     s = datasets["s"][0]
-    length = float(attrs["length_m"])
+    length = float(s[-1] - s[0])  # the lap's, from s: the joins keep its spacing
     turn = float(datasets["theta"][0][-1] - datasets["theta"][0][0])
     out = {}
     for name, (values, dataset_attrs) in datasets.items():
@@ -62,7 +75,8 @@ def repeat(path, datasets, attrs, laps):
         if along_s and values.shape != s.shape:
             raise ttz_h5.InputError(path, f"dataset '{name}' has {values.size} values, {s.size} expected (as 's')")
         out[name] = (repeated(name, values, laps, length, turn) if along_s else values, dataset_attrs)
-    return out, dict(attrs, length_m=laps * length, laps=laps)
+    return out, dict(attrs, length_m=laps * float(attrs["length_m"]), laps=laps * int(attrs.get("laps", 1)),
+                     repeated_from=path)
 
 
 def write(path, datasets, attrs):
@@ -73,7 +87,8 @@ def write(path, datasets, attrs):
         with h5py.File(temp, "w") as h5:
             h5.attrs.update(attrs)
             for name, (values, dataset_attrs) in datasets.items():
-                h5.create_dataset(name, data=values).attrs.update(dataset_attrs)
+                compress = {"compression": "gzip", "shuffle": True} if np.ndim(values) else {}
+                h5.create_dataset(name, data=values, **compress).attrs.update(dataset_attrs)
 
     ttz_h5.write_atomically(path, write_file)
 
@@ -88,7 +103,7 @@ def main():
     datasets, attrs = read_road(args.road)
     datasets, attrs = repeat(args.road, datasets, attrs, args.laps)
     write(args.output, datasets, attrs)
-    print(f"{args.output}: {args.laps} laps, {attrs['length_m']:.1f} m")
+    print(f"{args.output}: {attrs['laps']} laps, {attrs['length_m']:.1f} m")
 
 
 if __name__ == "__main__":

@@ -25,7 +25,7 @@ Columns:
   largest sensitivity  the bike.yaml value whose 1 % more changes the lap time most
                     (sensitivity/*, the indirect solver's laps; design values and conditions such as
                     gravity alike) with that change [s] (negative: faster), or "-" for a lap
-                    without sensitivities
+                    without sensitivities or without a finite one
 
 Writes report.md atomically (its folder created if missing) and prints it on stdout. Bad input
 (a missing file, a file that is not a lap.h5, no road.h5 beside a lap or one of another length, a

@@ -31,7 +31,18 @@ class RepeatRoadTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
             self.assertEqual(three.attrs["laps"], 3)
             self.assertEqual(three.attrs["length_m"], 3 * fx.LAP_LENGTH_M)
             self.assertEqual(three.attrs["schema_version"], 2)
+            self.assertEqual(three.attrs["repeated_from"], road)
         self.assert_no_temporaries(self.path("out"))
+        # repeated again: the laps multiply; a version 1 road (no banking) stays version 1
+        six = self.path("road6.h5")
+        self.assert_ok(fx.run("repeat_road.py", out, "-n", "2", "-o", six))
+        level = fx.write_road(self.path("level.h5"), closed=True)
+        self.assert_ok(fx.run("repeat_road.py", level, "-n", "2", "-o", self.path("level2.h5")))
+        with h5py.File(six) as h6, h5py.File(self.path("level2.h5")) as h2:
+            self.assertEqual((h6.attrs["laps"], h6.attrs["length_m"]), (6, 6 * fx.LAP_LENGTH_M))
+            self.assertEqual(h6["s"][-1], 6 * fx.LAP_LENGTH_M)
+            self.assertEqual(h2.attrs["schema_version"], 1)
+            self.assertNotIn("banking", h2)
 
     def test_bad_input_is_one_line_and_nothing_written(self):
         out = self.path("road2.h5")
@@ -49,6 +60,15 @@ class RepeatRoadTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
             h5.create_dataset("z", data=[0.0, 1.0])
         self.assert_refused(fx.run("repeat_road.py", closed, "-n", "2", "-o", out), "closed.h5", "'z' has 2 values",
                             absent=[out])
+        with h5py.File(closed, "a") as h5:
+            del h5["theta"]
+        self.assert_refused(fx.run("repeat_road.py", closed, "-n", "2", "-o", out), "closed.h5", "'theta'",
+                            absent=[out])
+        uneven = fx.write_road(self.path("uneven.h5"), closed=True)
+        with h5py.File(uneven, "a") as h5:
+            h5["s"][7] += 0.5
+        self.assert_refused(fx.run("repeat_road.py", uneven, "-n", "2", "-o", out), "uneven.h5",
+                            "not uniformly increasing", absent=[out])
 
 
 if __name__ == "__main__":
