@@ -1,5 +1,6 @@
 #include "common/road_artefact.h"
 
+#include <algorithm>
 #include <cstdint>
 
 #include "common/artefact.h"
@@ -89,6 +90,20 @@ void WriteRoad(const std::string& path, const RoadArtefact& road) {
   w.Commit();
 }
 
+void CheckAlongS(const RoadArtefact& road, const std::string& where, const std::vector<std::string>& names) {
+  const size_t n = road.s.size();
+  if (n < 2) throw InputError(where, "dataset 's' has " + std::to_string(n) + " samples, at least 2 expected");
+  for (const auto& c : kAlongS) {
+    if (!names.empty() && std::find(names.begin(), names.end(), c.name) == names.end()) continue;
+    if ((road.*c.member).size() != n)
+      throw InputError(where, std::string("dataset '") + c.name + "' has " + std::to_string((road.*c.member).size()) +
+                                  " samples, " + std::to_string(n) + " expected (as 's')");
+  }
+  for (size_t i = 1; i < n; ++i)
+    if (!(road.s[i] > road.s[i - 1]))
+      throw InputError(where, "dataset 's' is not strictly increasing at index " + std::to_string(i));
+}
+
 RoadArtefact ReadRoad(const std::string& path) {
   ArtefactReader r(path, kRoadSchema, kRoadSchemaVersion, kRoadOldestSchemaVersion);
   RoadArtefact road;
@@ -100,15 +115,7 @@ RoadArtefact ReadRoad(const std::string& path) {
   for (const auto& c : kPoints) road.*c.member = r.ReadVector(c.name, c.units);
   road.point_line = r.ReadIntVector("points/line", "1");
   road.point_side = r.ReadIntVector("points/side", "1");
-  const size_t n = road.s.size();
-  if (n < 2) throw InputError(path, "dataset 's' has " + std::to_string(n) + " samples, at least 2 expected");
-  for (const auto& c : kAlongS)
-    if ((road.*c.member).size() != n)
-      throw InputError(path, std::string("dataset '") + c.name + "' has " + std::to_string((road.*c.member).size()) +
-                                 " samples, " + std::to_string(n) + " expected (as 's')");
-  for (size_t i = 1; i < n; ++i)
-    if (!(road.s[i] > road.s[i - 1]))
-      throw InputError(path, "dataset 's' is not strictly increasing at index " + std::to_string(i));
+  CheckAlongS(road, path);
   road.closed = r.ReadBoolAttribute("closed");
   road.length_m = r.ReadDoubleAttribute("length_m");
   road.ds_m = r.ReadDoubleAttribute("ds_m");

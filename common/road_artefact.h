@@ -59,7 +59,12 @@ struct RoadArtefact {
 void WriteRoad(const std::string& path, const RoadArtefact& road);
 
 // Reads and checks schema, version, units and that all along-s datasets have the same length with
-// s strictly increasing. Throws InputError naming the file and what is wrong.
+// s strictly increasing (CheckAlongS). Throws InputError naming the file and what is wrong.
 RoadArtefact ReadRoad(const std::string& path);
+
+// Throws InputError naming `where` unless s has at least 2 samples, every along-s dataset named in
+// `names` (road.h5's names: "kappa", "banking", ...; all of them when empty) has as many, and s
+// strictly increases. ReadRoad checks a file with it, lap's RoadTrack the channels it samples.
+void CheckAlongS(const RoadArtefact& road, const std::string& where, const std::vector<std::string>& names = {});
 
 }  // namespace ttz

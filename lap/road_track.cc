@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
 
 #include "common/error.h"
 
@@ -12,14 +11,8 @@ RoadTrack::RoadTrack(const RoadArtefact& road, const std::string& name)
     : kappa_(road.kappa), nu_(road.nu), tau_(road.tau), sigma_(road.sigma), xi_(road.banking),
       width_(road.width),
       closed_(road.closed) {
+  CheckAlongS(road, name, {"kappa", "nu", "tau", "sigma", "banking", "width"});
   const size_t n = road.s.size();
-  if (n < 2) throw InputError(name, "dataset 's' has " + std::to_string(n) + " samples, at least 2 expected");
-  const std::pair<const char*, const std::vector<double>*> channels[] = {
-      {"kappa", &kappa_}, {"nu", &nu_}, {"tau", &tau_}, {"sigma", &sigma_}, {"banking", &xi_}, {"width", &width_}};
-  for (const auto& [channel, f] : channels)
-    if (f->size() != n)
-      throw InputError(name, std::string("dataset '") + channel + "' has " + std::to_string(f->size()) +
-                                 " samples, " + std::to_string(n) + " expected (as 's')");
   ds_ = road.s[1] - road.s[0];
   for (size_t i = 1; i < n; ++i)
     if (!(std::abs(road.s[i] - road.s[i - 1] - ds_) <= 1e-6 * ds_))

@@ -22,7 +22,6 @@ does not increase along s, a non-positive --segment-m or --rows) is one line on 
 status 1 (2 for a usage error), and nothing is written.
 """
 import json
-import math
 
 import numpy as np
 
@@ -120,25 +119,14 @@ def delta_figure(plt, a, b, labels=("A", "B")):
     return figure
 
 
-def positive(kind):
-    """argparse type: a positive number of `kind`."""
-    def parse(text):
-        value = kind(text)
-        if not (math.isfinite(value) and value > 0):
-            raise ValueError(text)
-        return value
-    parse.__name__ = f"positive {kind.__name__}"
-    return parse
-
-
 def main():
     """Reads both laps, then prints the comparison and writes the figure."""
     parser = ttz_h5.argument_parser(__doc__)
     parser.add_argument("a", help="lap.h5 A")
     parser.add_argument("b", help="lap.h5 B, of the same road")
     parser.add_argument("-o", "--output", required=True, help="delta.png to write")
-    parser.add_argument("--segment-m", type=positive(float), default=1000.0, help="segment length [m]")
-    parser.add_argument("--rows", type=positive(int), default=3, help="segments listed each way")
+    parser.add_argument("--segment-m", type=ttz_h5.positive(float), default=1000.0, help="segment length [m]")
+    parser.add_argument("--rows", type=ttz_h5.positive(int), default=3, help="segments listed each way")
     parser.add_argument("--json", action="store_true", help="print the comparison as JSON")
     args = parser.parse_args()
     a, b = read_lap(args.a), read_lap(args.b)

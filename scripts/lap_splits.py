@@ -23,14 +23,6 @@ import ttz_h5
 KMH = 3.6  # (km/h) per (m/s)
 
 
-def at_least_one(text):
-    """argparse type: an integer of 1 or more."""
-    value = int(text)
-    if value < 1:
-        raise ValueError(text)
-    return value
-
-
 def read_lap(path):
     """s [m], t [s], V [m/s], e [J] and the road's length [m] of a lap.h5, checked."""
     lap = ttz_h5.open_lap(path)
@@ -61,7 +53,7 @@ def main():
     """Reads the lap, prints its splits."""
     parser = ttz_h5.argument_parser(__doc__)
     parser.add_argument("lap", help="lap.h5 of a road driven N times")
-    parser.add_argument("-n", "--laps", type=at_least_one, required=True, help="laps of its road")
+    parser.add_argument("-n", "--laps", type=ttz_h5.positive(int), required=True, help="laps of its road")
     parser.add_argument("--json", action="store_true", help="print the splits as JSON")
     args = parser.parse_args()
     rows = splits(*read_lap(args.lap), args.laps)

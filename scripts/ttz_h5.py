@@ -55,6 +55,17 @@ def argument_parser(doc):
     return _OneLineParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
 
 
+def positive(kind):
+    """argparse type: a positive finite number of `kind` (int: 1 or more)."""
+    def parse(text):
+        value = kind(text)
+        if not (math.isfinite(value) and value > 0):
+            raise ValueError(text)
+        return value
+    parse.__name__ = f"positive {kind.__name__}"
+    return parse
+
+
 def _text(value):
     """An HDF5 string attribute as str (h5py gives bytes or str)."""
     return value.decode() if isinstance(value, bytes) else str(value)
