@@ -112,6 +112,8 @@ constexpr IndirectKey kIndirectKeys[] = {
      [](ttz::lap::IndirectOptions* o, double x) { o->corrector_iterations = static_cast<int>(x); }},
     {"corrector_contraction_max",
      [](ttz::lap::IndirectOptions* o, double x) { o->corrector_contraction_max = x; }},
+    {"arclength_contraction_max",
+     [](ttz::lap::IndirectOptions* o, double x) { o->arclength_contraction_max = x; }},
     {"homotopy", [](ttz::lap::IndirectOptions* o, double x) { o->homotopy = x != 0.0; }},
     {"homotopy_handoff", [](ttz::lap::IndirectOptions* o, double x) { o->homotopy_handoff = x; }},
     {"homotopy_tolerance", [](ttz::lap::IndirectOptions* o, double x) { o->homotopy_tolerance = x; }},

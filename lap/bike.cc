@@ -185,7 +185,7 @@ const std::vector<KeySpec>& Keys() {
       TTZ_REAL("limits", "border_margin_m", limits.border_margin, kNonNegative,
                "contact point kept this far inside each border [m]"),
       TTZ_REAL("limits", "brake_torque_max_n_m", limits.brake_torque_max, kPositive,
-               "largest brake torque at the wheel [N m] (bounds the control tau_w)"),
+               "largest brake torque at the wheel [N m] (bounds the state tau_w)"),
       TTZ_REAL("limits", "yaw_acceleration_weight_s4_per_rad2", limits.yaw_accel_weight, kPositive,
                "c_y [s^4/rad^2], cost of the yaw acceleration: lap time + c_y int (dOmega_z/dt)^2 dt"),
       TTZ_REAL("limits", "torque_rate_weight_s3_per_n2_m2", limits.torque_rate_weight, kPositive,
@@ -331,7 +331,7 @@ void ReadKeys(const YAML::Node& root, const Locator& loc, BikeParams* p) {
                                                 std::string(spec.section) + "')");
     const YAML::Node node = section[spec.key];
     if (!node.IsDefined() || node.IsNull()) {
-      const long line = node.IsDefined() ? KeyLine(section, spec.key) : section.Mark().line;
+      const long line = node.IsDefined() ? KeyLine(section, spec.key) : KeyLine(root, spec.section);
       throw InputError(loc.AtLine(path, line),
                        node.IsDefined() ? "missing value" : "missing key in section '" +
                                                                 std::string(spec.section) + "'");

@@ -198,15 +198,18 @@ void WriteResim(ArtefactWriter& w, const ResimReport& r, size_t nodes) {
 }
 
 void WriteSensitivities(ArtefactWriter& w, const std::vector<DesignSensitivity>& sensitivities) {
-  std::vector<std::string> key;
+  std::vector<std::string> key, kind;
   std::vector<double> value, per_unit, per_percent;
   for (const DesignSensitivity& d : sensitivities) {
     key.push_back(d.key);
+    kind.push_back(d.kind);
     value.push_back(d.value);
     per_unit.push_back(d.per_unit);
     per_percent.push_back(d.per_percent);
   }
   w.WriteStringVector("sensitivity/key", key, "bike.yaml key path of each row (its unit is in its name)");
+  w.WriteStringVector("sensitivity/kind", kind,
+                      "design, rider, condition or reference: what kind of change the row is (lap/sensitivity.h)");
   w.WriteVector("sensitivity/value", value, "key's", "the key's value in this lap's bike");
   w.WriteVector("sensitivity/per_unit", per_unit, "s per key's unit",
                 "dJ/d(value) by the adjoint, J the lap time with the barriers' and the effort's share, on this "

@@ -45,17 +45,18 @@ std::string ResimLine(const ResimReport& r) {
          Printf(" at s = %.0f m", r.worst_s) + (r.passed ? ")" : "; failed)");
 }
 
-// The largest finite sensitivities by size, one per line: "key  +0.123 s".
+// The largest finite sensitivities of design values by size, one per line: "key  +0.123 s".
 std::string SensitivityLines(const std::vector<DesignSensitivity>& sensitivities) {
   std::vector<DesignSensitivity> largest;
   std::copy_if(sensitivities.begin(), sensitivities.end(), std::back_inserter(largest),
-               [](const DesignSensitivity& d) { return std::isfinite(d.per_percent); });
+               [](const DesignSensitivity& d) { return d.kind == "design" && std::isfinite(d.per_percent); });
   const size_t shown = std::min<size_t>(largest.size(), kReportedSensitivities);
   std::partial_sort(largest.begin(), largest.begin() + shown, largest.end(),
                     [](const DesignSensitivity& a, const DesignSensitivity& b) {
                       return std::abs(a.per_percent) > std::abs(b.per_percent);
                     });
-  std::string lines = "sensitivity    lap time per 1 % more of (the largest; all in lap.h5 sensitivity/*):\n";
+  std::string lines =
+      "sensitivity    lap time per 1 % more of (the largest design values; all in lap.h5 sensitivity/*):\n";
   for (size_t i = 0; i < shown; ++i) {
     char line[160];
     std::snprintf(line, sizeof line, "               %-48s %+.3f s\n", largest[i].key.c_str(), largest[i].per_percent);
@@ -118,6 +119,9 @@ std::string LapReportJson(const LapSolution& sol, const SolveSummary& summary, c
     << ", \"nodes\": " << sol.s.size() << ", \"sensitivity_per_percent\": {";
   for (size_t i = 0; i < sensitivities.size(); ++i)
     o << (i > 0 ? ", " : "") << JsonString(sensitivities[i].key) << ": " << JsonNumber(sensitivities[i].per_percent);
+  o << "}, \"sensitivity_kind\": {";
+  for (size_t i = 0; i < sensitivities.size(); ++i)
+    o << (i > 0 ? ", " : "") << JsonString(sensitivities[i].key) << ": " << JsonString(sensitivities[i].kind);
   o << "}}\n";
   return o.str();
 }

@@ -81,17 +81,21 @@ TEST_F(LapReportFigures, JsonInSiUnitsWithNullForNonFinite) {
   EXPECT_NE(json.find("\"resim_lap_time_relative\": 0.0001,"), std::string::npos) << json;
   EXPECT_NE(json.find("\"resim_passed\": true"), std::string::npos) << json;
   EXPECT_NE(json.find("\"resim_worst_state\": \"V\", \"resim_worst_s\": 123.4,"), std::string::npos) << json;
-  EXPECT_NE(json.find("\"nodes\": 3, \"sensitivity_per_percent\": {}}"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"nodes\": 3, \"sensitivity_per_percent\": {}, \"sensitivity_kind\": {}}"), std::string::npos)
+      << json;
 }
 
-// The text names the kReportedSensitivities largest by size, largest first; the JSON has them all.
+// The text names the kReportedSensitivities largest of the design values by size, largest first;
+// the JSON has them all, with their kinds.
 TEST_F(LapReportFigures, TheLargestSensitivitiesFirstAndAllInJson) {
   std::vector<DesignSensitivity> all;
   for (int i = 0; i < kReportedSensitivities + 2; ++i)  // sizes 0, -0.1, 0.2, -0.3, ...
-    all.push_back({"section.key" + std::to_string(i), 1.0, 0.0, (i % 2 ? -0.1 : 0.1) * i});
-  all.push_back({"section.nan", 1.0, NAN, NAN});  // not ranked, null in JSON
+    all.push_back({"section.key" + std::to_string(i), "design", 1.0, 0.0, (i % 2 ? -0.1 : 0.1) * i});
+  all.push_back({"section.nan", "design", 1.0, NAN, NAN});  // not ranked, null in JSON
+  all.push_back({"section.gravity", "condition", 1.0, 0.0, -9.0});  // the largest, but no design value
   const std::string text = LapReportText(sol, summary, f, resim, all);
   EXPECT_EQ(text.find("section.nan"), std::string::npos) << text;
+  EXPECT_EQ(text.find("section.gravity"), std::string::npos) << text;
   const size_t largest = text.find("section.key6"), next = text.find("section.key5");
   ASSERT_NE(largest, std::string::npos) << text;
   EXPECT_LT(largest, next) << text;
@@ -102,7 +106,9 @@ TEST_F(LapReportFigures, TheLargestSensitivitiesFirstAndAllInJson) {
   const std::string json = LapReportJson(sol, summary, f, resim, all);
   EXPECT_NE(json.find("\"sensitivity_per_percent\": {\"section.key0\": 0, \"section.key1\": -0.1,"),
             std::string::npos) << json;
-  EXPECT_NE(json.find("\"section.nan\": null}}"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"section.nan\": null, \"section.gravity\": -9}"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"sensitivity_kind\": {\"section.key0\": \"design\","), std::string::npos) << json;
+  EXPECT_NE(json.find("\"section.gravity\": \"condition\"}}"), std::string::npos) << json;
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <sstream>
 
 #include "lap/model/vehicle.h"
@@ -23,6 +24,19 @@ constexpr double kCelsiusZero = 273.15;  // [K]
 constexpr const char* kEffortWeights[] = {"limits.yaw_acceleration_weight_s4_per_rad2",
                                           "limits.torque_rate_weight_s3_per_n2_m2",
                                           "limits.roll_rate_weight_s2_per_rad2"};
+
+// The values that are not "design" (SensitivityKind, sensitivity.h), by kind.
+constexpr const char* kRiderKeys[] = {"limits.roll_rate_max_rad_per_s", "limits.yaw_rate_max_rad_per_s",
+                                      "limits.border_margin_m"};
+constexpr const char* kConditionKeys[] = {"aero.air_density_kg_per_m3", "environment.gravity_m_per_s2",
+                                          "environment.ambient_temperature_c", "initial.speed_m_per_s",
+                                          "initial.motor_temperature_c", "initial.state_of_charge"};
+constexpr const char* kReferenceKeys[] = {"motor.reference_temperature_c"};
+
+template <size_t N>
+bool OneOf(const std::string& key, const char* const (&keys)[N]) {
+  return std::find(std::begin(keys), std::end(keys), key) != std::end(keys);
+}
 
 // The bike's start state: the quasi-steady state at its initial speed, motor temperature and
 // charge on the centre line (sensitivity.h).
@@ -62,7 +76,7 @@ DesignSensitivity Sensitivity(const BikeParams& bike, const Transcription& tr, c
     return Lagrangian(tr, v, StartState(v, road, start_mesh));
   };
   const double per_unit = (lagrangian(x + h) - lagrangian(x - h)) / (2.0 * h);
-  return {key, x, per_unit, per_unit * OnePercent(key, x)};
+  return {key, SensitivityKind(key), x, per_unit, per_unit * OnePercent(key, x)};
 }
 
 }  // namespace
@@ -71,6 +85,13 @@ std::vector<std::string> SensitivityKeys() {
   std::vector<std::string> keys = RealBikeKeys();
   for (const char* weight : kEffortWeights) keys.erase(std::remove(keys.begin(), keys.end(), weight), keys.end());
   return keys;
+}
+
+const char* SensitivityKind(const std::string& key) {
+  if (OneOf(key, kRiderKeys)) return "rider";
+  if (OneOf(key, kConditionKeys)) return "condition";
+  if (OneOf(key, kReferenceKeys)) return "reference";
+  return "design";
 }
 
 bool HasSensitivities(const LapSolution& sol) {

@@ -43,6 +43,7 @@ namespace ttz::lap {
 
 struct DesignSensitivity {
   std::string key;    // bike.yaml path, e.g. "chassis.base_mass_kg" (its unit is in its name)
+  std::string kind;   // SensitivityKind(key)
   double value;       // the value in the lap's bike [unit of the key]
   double per_unit;    // dJ/dp [s per unit of the key]
   // The lap time 1 % more of the value costs [s]: per_unit * value / 100, the value taken in
@@ -54,6 +55,18 @@ struct DesignSensitivity {
 
 // The bike.yaml values DesignSensitivities covers: RealBikeKeys but the rider's effort weights.
 std::vector<std::string> SensitivityKeys();
+
+// What kind of change a bike.yaml value's sensitivity is, so that a report of what buys lap time
+// can keep to what a team can change:
+//   "design"     the bike and its set-up (chassis, tyre, aero but the air's density, motor,
+//                controller, battery, drive, the brake's torque);
+//   "rider"      the rider's limits (roll and yaw rate, the margin to the borders);
+//   "condition"  the day and the start: the air's density, gravity, the ambient temperature and
+//                the initial speed, motor temperature and charge;
+//   "reference"  a model's reference point, not a change of anything: the temperature at which
+//                the motor's R_m0, k_V0 and k_tau0 are given (1 % more of it with them held is a
+//                cooler motor's constants at the same temperatures).
+const char* SensitivityKind(const std::string& key);
 
 // Whether `sol` carries what DesignSensitivities needs: costates at every node, the intervals'
 // controls and a barrier weight eps > 0 (the indirect solver's laps).

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <string>
 
 #include "lap/solver/indirect.h"
@@ -93,6 +94,24 @@ TEST(SensitivityTest, TheEffortWeightsAreLeftOut) {
     EXPECT_NE(std::find(real.begin(), real.end(), weight), real.end()) << weight;
     EXPECT_EQ(std::find(keys.begin(), keys.end(), weight), keys.end()) << weight;
   }
+}
+
+// Each value's kind (SensitivityKind): the rider's three limits, the six conditions of the day and
+// the start, the motor's reference temperature, and the bike's design values, which are the rest;
+// every key the lists name is one of SensitivityKeys (a misspelt one would be counted as design).
+TEST(SensitivityTest, EachValueHasItsKind) {
+  std::map<std::string, int> count;
+  for (const std::string& key : SensitivityKeys()) ++count[SensitivityKind(key)];
+  EXPECT_EQ(count["rider"], 3);
+  EXPECT_EQ(count["condition"], 6);
+  EXPECT_EQ(count["reference"], 1);
+  EXPECT_EQ(count["design"] + 10, static_cast<int>(SensitivityKeys().size()));
+  EXPECT_EQ(count.size(), 4u);
+  EXPECT_STREQ(SensitivityKind("environment.gravity_m_per_s2"), "condition");
+  EXPECT_STREQ(SensitivityKind("motor.reference_temperature_c"), "reference");
+  EXPECT_STREQ(SensitivityKind("limits.roll_rate_max_rad_per_s"), "rider");
+  EXPECT_STREQ(SensitivityKind("drive.gear_ratio"), "design");
+  EXPECT_STREQ(SensitivityKind("limits.brake_torque_max_n_m"), "design");
 }
 
 // An Ipopt lap (eps 0, no barrier costates) has none.

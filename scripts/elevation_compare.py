@@ -3,7 +3,7 @@
 a centre line (CSV with lat_deg, lon_deg), prints the mean, RMS and largest difference A - B [m]
 and writes a PNG of both profiles and of the difference vs distance [km].
 
-usage: elevation_compare.py A.csv B.csv --centreline centreline.csv -o out.png [--json]
+usage: elevation_compare.py A.csv B.csv --centreline centreline.csv -o out.png [--max-offset M] [--json]
 e.g.   elevation_compare.py elevation-flightgear.csv elevation-bikesim.csv \\
            --centreline centreline-osm.csv -o elevation.png
 

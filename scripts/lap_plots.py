@@ -13,8 +13,10 @@ Writes into OUTDIR (created if missing), each file atomically:
   resim.png          (when the lap has resim/*) each state's re-simulation difference, scaled
                      [1, log], with the check's 0.1 %: where the mesh does not resolve the dynamics
   sensitivity.png    (when the lap has sensitivity/*: the indirect solver's) what buys lap time:
-                     the SENSITIVITY_BARS largest design sensitivities, the lap time 1 % more of
-                     each bike value costs [s] (negative: buys), largest at the top
+                     the SENSITIVITY_BARS largest sensitivities of design values (sensitivity/kind:
+                     not the rider's limits, the conditions or the motor's reference temperature),
+                     the lap time 1 % more of each bike value costs [s] (negative: buys), largest
+                     at the top
   map.png            (--road) the bike's path coloured by speed [km/h] on the road's local
                      east/north frame [km]; path = centre line + n across the (banked) road surface
   elevation.png      (--road) centre-line elevation z [m], slope tan(sigma) [%] and, on a banked
@@ -173,18 +175,18 @@ def resim_figure(plt, lap):
 
 
 def sensitivity_figure(plt, lap):
-    """The largest design sensitivities as horizontal bars [s per 1 % more], largest at the top:
-    red where more of the value costs time, green where it buys time."""
+    """The largest sensitivities of design values (sensitivity/kind) as horizontal bars [s per 1 %
+    more], largest at the top: red where more of the value costs time, green where it buys time."""
     largest, _ = ttz_h5.largest_sensitivities(lap["sensitivities"], SENSITIVITY_BARS)
-    keys = [key for key, _, _ in largest][::-1]
-    seconds = np.array([per_percent for _, _, per_percent in largest][::-1])
+    keys = [row[0] for row in largest][::-1]
+    seconds = np.array([row[2] for row in largest][::-1])
     figure, axis = plt.subplots(figsize=(9, 0.35 * len(keys) + 1.5))
     axis.barh(keys, seconds, color=np.where(seconds > 0, "tab:red", "tab:green"))
     axis.axvline(0.0, color="k", lw=0.8)
     axis.set_xlabel("lap time per 1 % more of the value [s]")
     axis.tick_params(axis="y", labelsize=7)
     axis.grid(True, axis="x", alpha=0.3)
-    axis.set_title("what buys lap time (design sensitivities by the adjoint, lap/sensitivity.h)")
+    axis.set_title("what buys lap time: design values (by the adjoint, lap/sensitivity.h)")
     figure.tight_layout()
     return figure
 

@@ -40,8 +40,10 @@ Rows:
                     the mesh is not uniform in time.
 What buys time: when the lap has design sensitivities (sensitivity/key and sensitivity/per_percent,
 lap/sensitivity.h: the indirect solver's laps), a second table lists the SENSITIVITY_ROWS largest
-by size, the lap time 1 % more of each bike value costs (negative: buys), with the value itself;
-values without a finite figure are named below it.
+by size of the design values (sensitivity/kind "design"), the lap time 1 % more of each bike value
+costs (negative: buys), with the value itself; a third lists the values of the other kinds (the
+rider's limits, conditions such as gravity, the motor's reference temperature); values without a
+finite figure are named below them.
 The header names the lap file and its converged / resim_passed attributes; a lap that did not
 converge is flagged at the top. Constraints whose max_violation_<kind> exceeds the solver's
 1e-4 tolerance are listed there too.
@@ -60,6 +62,7 @@ import ttz_h5
 
 KMH = 3.6  # (km/h) per (m/s)
 SENSITIVITY_ROWS = 10
+OTHER_KINDS = ("rider", "condition", "reference")  # sensitivity/kind other than design (lap/sensitivity.h)
 CHANNELS = ("t", "state/V", "tyre/force_x", "wheel/power", "battery/power", "battery/current",
             "battery/voltage", "motor/voltage", "motor/current")
 VIOLATION_TOLERANCE = 1e-4   # docs/lap_h5.md: the check allows 1e-4
@@ -104,16 +107,27 @@ def read_lap(path):
 
 
 def sensitivity_lines(sensitivities):
-    """The SENSITIVITY_ROWS largest finite sensitivities by size as a markdown section, and the
+    """The SENSITIVITY_ROWS largest finite sensitivities of design values by size as a markdown
+    section, then those of the other kinds (the rider's limits, conditions, references), and the
     values without a finite one named ([] without any)."""
     if not sensitivities:
         return []
     largest, missing = ttz_h5.largest_sensitivities(sensitivities, SENSITIVITY_ROWS)
-    rows = [[f"`{key}`", f"{value:.6g}", f"{per_percent:+.3f} s"] for key, value, per_percent in largest]
+    designs = sum(1 for row in sensitivities if row[3] == "design")
+    rows = [[f"`{key}`", f"{value:.6g}", f"{per_percent:+.3f} s"] for key, value, per_percent, _ in largest]
     lines = ["", "## What buys lap time (design sensitivities of this lap, lap.h5 sensitivity/*)", "",
              "The lap time 1 % more of each bike value costs (negative: buys), by the adjoint of "
-             f"the solve (lap/sensitivity.h); the {len(largest)} largest of {len(sensitivities)}.", ""
+             f"the solve (lap/sensitivity.h); the {len(largest)} largest of the {designs} design values.", ""
              ] + study_report.table(["bike value", "value", "lap time per 1 % more"], rows)
+    others = []
+    for kind in OTHER_KINDS:
+        found, lost = ttz_h5.largest_sensitivities(sensitivities, len(sensitivities), kind)
+        others += [[f"`{key}`", kind, f"{value:.6g}", f"{per_percent:+.3f} s"] for key, value, per_percent, _ in found]
+        missing += lost
+    if others:
+        lines += ["", "Not changes to the bike (sensitivity/kind): the rider's limits, the day's and the start's "
+                  "conditions, and the motor's reference temperature (the temperature its constants are given at):", ""
+                  ] + study_report.table(["value", "kind", "value", "lap time per 1 % more"], others)
     if missing:
         lines += ["", "Without a finite figure (left out): " + ", ".join(f"`{key}`" for key in missing)]
     return lines

@@ -22,10 +22,11 @@ Columns:
   re-simulation     the lap time's difference (resim_lap_time_relative) [%], then "passed" or the
                     state that differs most with its difference (resim_worst_state,
                     resim_max_state_difference) [% of the state's scale]
-  largest sensitivity  the bike.yaml value whose 1 % more changes the lap time most
-                    (sensitivity/*, the indirect solver's laps; design values and conditions such as
-                    gravity alike) with that change [s] (negative: faster), or "-" for a lap
-                    without sensitivities or without a finite one
+  largest design sensitivity  the design value of bike.yaml (sensitivity/kind "design": not the
+                    rider's limits, conditions such as gravity, or the motor's reference
+                    temperature) whose 1 % more changes the lap time most (sensitivity/*, the
+                    indirect solver's laps) with that change [s] (negative: faster), or "-" for a
+                    lap without sensitivities or without a finite one
 
 Writes report.md atomically (its folder created if missing) and prints it on stdout. Bad input
 (a missing file, a file that is not a lap.h5, no road.h5 beside a lap or one of another length, a
@@ -44,7 +45,7 @@ import ttz_h5
 KMH = 3.6  # (km/h) per (m/s)
 HEADER = ("circuit", "length [km]", "elevation range [m]", "tightest radius [m]", "largest banking [deg]", "lap time",
           "average speed [km/h]", "top speed [km/h]", "energy used [MJ]", "start", "converged",
-          "re-simulation", "largest sensitivity (1 % more)")
+          "re-simulation", "largest design sensitivity (1 % more)")
 
 
 def checked(path, name, value, positive=False):
@@ -102,10 +103,10 @@ def resim_text(row):
 
 
 def sensitivity_text(row):
-    """The bike value the lap time is most sensitive to, with its seconds per 1 % more, or "-"."""
+    """The design value the lap time is most sensitive to, with its seconds per 1 % more, or "-"."""
     if not row["largest"]:
         return "-"
-    key, _, per_percent = row["largest"][0]
+    key, _, per_percent, _ = row["largest"][0]
     return f"`{key}` {per_percent:+.2f} s"
 
 

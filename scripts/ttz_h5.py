@@ -17,7 +17,8 @@ import numpy as np
 LAP_SCHEMA = "ttz.lap"
 # Version 1 had Omega_z in control/; version 2 has it in state/ (read by omega_z() below); version 3
 # (docs/lap_h5.md) adds control_interval/, which the scripts do not read; version 4 sensitivity/, which
-# reference_report.py and lap_plots.py read where it is (sensitivities() below). Any other version is refused.
+# reference_report.py, lap_plots.py and tracks_report.py read where it is (sensitivities() below; its
+# sensitivity/kind came later within version 4). Any other version is refused.
 LAP_VERSIONS = (1, 2, 3, 4)
 ROAD_SCHEMA = "ttz.road"
 # Version 2 (docs/road_h5.md) adds banking (road_banking() below reads version 1 as level).
@@ -165,20 +166,27 @@ def road_banking(road, length):
 
 
 def sensitivities(lap):
-    """[(key, value, seconds per 1 % more)] of the lap's design sensitivities (sensitivity/*,
-    docs/lap_h5.md; version 4, the indirect solver's converged laps), [] for a lap without them."""
+    """[(key, value, seconds per 1 % more, kind)] of the lap's design sensitivities (sensitivity/*,
+    docs/lap_h5.md; version 4, the indirect solver's converged laps), [] for a lap without them.
+    kind is design, rider, condition or reference (sensitivity/kind); "design" for every row of a
+    lap written before sensitivity/kind."""
     if not lap.has("sensitivity/key"):
         return []
     keys = lap.strings("sensitivity/key")
+    kinds = lap.strings("sensitivity/kind") if lap.has("sensitivity/kind") else ["design"] * len(keys)
+    if len(kinds) != len(keys):
+        raise InputError(lap.path, f"dataset 'sensitivity/kind' has {len(kinds)} values, expected "
+                         f"{len(keys)} (one per sensitivity/key)")
     return list(zip(keys, lap.data("sensitivity/value", len(keys)),
-                    lap.data("sensitivity/per_percent", len(keys))))
+                    lap.data("sensitivity/per_percent", len(keys)), kinds))
 
 
-def largest_sensitivities(rows, count):
-    """The `count` rows of sensitivities() with the largest finite figure by size, largest first,
-    and the keys of the rows without a finite one."""
+def largest_sensitivities(rows, count, kind="design"):
+    """The `count` rows of sensitivities() of that kind with the largest finite figure by size,
+    largest first, and the keys of its rows without a finite one."""
+    rows = [row for row in rows if row[3] == kind]
     finite = [row for row in rows if math.isfinite(row[2])]
-    missing = [key for key, _, per_percent in rows if not math.isfinite(per_percent)]
+    missing = [row[0] for row in rows if not math.isfinite(row[2])]
     return sorted(finite, key=lambda row: -abs(row[2]))[:count], missing
 
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -70,8 +71,9 @@ ceres::Solver::Options CeresOptions(const IndirectOptions& options) {
 // Follows the barrier continuation's solution curve (BarrierPath) from the converged point in `tr`
 // at eps0 down to eps_end (FollowPath); every point is appended to `steps` with its lap time. At a
 // turning point of the curve (eps starts to grow: the points below it in eps are on another
-// branch) `turning_point` says where on the road the solution turns. True when eps_end was
-// reached.
+// branch) `turning_point` says where on the road the solution turns. Where the path with the bound
+// on the correctors' contraction (arclength_contraction_max) does not reach eps_end, it is
+// followed again from eps0 without the bound. True when eps_end was reached.
 bool TraceCurve(const IndirectOptions& options, Transcription* tr,
                 double eps0, std::vector<ContinuationStep>* steps, std::string* turning_point) {
   CurveSystem sys(tr);
@@ -82,12 +84,13 @@ bool TraceCurve(const IndirectOptions& options, Transcription* tr,
   settings.tolerance = options.path_tolerance;
   settings.final_tolerance = 10.0 * options.residual_tolerance;
   settings.corrector_iterations = options.corrector_iterations;
-  // Not on the barrier continuation: on the TT course's first 5 km (5 m) its stopped correctors
-  // led to a turning point at eps 1.34e-4 that full correctors step over to converge at eps_end
-  // (SnaefellOracleTest.First5kmAgreement; docs/lap_log.md "Stalled correctors"). Nor are correctors
-  // that do not contract, for the same reason: there they led to a turning point at eps 1.33e-4
-  // (docs/lap_log.md "Correctors that do not contract").
+  // Stalled correctors are not stopped on the barrier continuation: on the TT course's first 5 km
+  // (5 m) that led to a turning point at eps 1.34e-4 that full correctors step over to converge
+  // at eps_end (SnaefellOracleTest.First5kmAgreement; docs/lap_log.md "Stalled correctors").
+  // Correctors that do not contract are (IndirectOptions::arclength_contraction_max), with the
+  // path followed again without the bound where it does not reach eps_end.
   settings.stop_stalled = false;
+  settings.max_contraction = options.arclength_contraction_max;
   const auto report = [&](const PathPoint& point) {
     ContinuationStep step;
     step.eps = point.last ? options.eps_end : std::exp(point.p);
@@ -112,8 +115,21 @@ bool TraceCurve(const IndirectOptions& options, Transcription* tr,
     Log(LogKind::kInfo, o.str());
     steps->push_back(step);
   };
+  const std::vector<double> w0 = tr->w;
+  const std::vector<NodeData> mids0 = tr->mids;
   Eigen::VectorXd turn;
-  const PathEnd end = FollowPath(&sys, &path, std::log(eps0), settings, report, &turn);
+  PathEnd end = FollowPath(&sys, &path, std::log(eps0), settings, report, &turn);
+  if (end != PathEnd::kReached && std::isfinite(settings.max_contraction)) {
+    // A stopped corrector shortens the step, and a shorter step may follow the curve into a
+    // turning point that a full corrector steps over (docs/lap_log.md, session 51).
+    Log(LogKind::kInfo, "arclength: again from eps " + std::to_string(eps0) +
+                            " without the bound on the correctors' contraction");
+    tr->w = w0;
+    tr->mids = mids0;
+    tr->KeepControlsAsStarts();
+    settings.max_contraction = std::numeric_limits<double>::infinity();
+    end = FollowPath(&sys, &path, std::log(eps0), settings, report, &turn);
+  }
   if (end == PathEnd::kTurned) {
     *turning_point = sys.DescribeStateDirection(turn);
     Log(LogKind::kInfo, "arclength: turning point of the solution curve at eps " +

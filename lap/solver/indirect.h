@@ -65,9 +65,17 @@ struct IndirectOptions {
   int corrector_iterations = 8;
   // A corrector of Newton's homotopy and of the node barriers' share path fails at once when a
   // Newton step is longer than this times the one before (CorrectorNotContracting,
-  // solution_curve.h; not on the barrier continuation, where stopped correctors lead to turning
-  // points: docs/lap_log.md "Correctors that do not contract"); infinity: never.
+  // solution_curve.h); infinity: never.
   double corrector_contraction_max = 0.5;
+  // The same bound on the barrier continuation's correctors (TraceCurve); infinity: never. A
+  // stopped corrector shortens the step, and the shorter steps may follow the curve into a
+  // turning point that full correctors step over: on the TT course's first 5 km (5 m) 0.5 and 1
+  // met one at eps 1.33e-4 and 1.36e-4, and 0.7 left the calibrated bike's weave at one at eps
+  // 7.2e-4 instead of 3.0e-4. So where the path with the bound does not reach eps_end it is
+  // followed again without it. On the whole course (the benchmark of docs/lap_log.md, session
+  // 51) 0.7 took 155.7 s and 3,727 iterations, 1 161.8 s and 3,655, none 184.9 s and 3,914, one
+  // after the other, the same lap.
+  double arclength_contraction_max = 0.7;
   // The first step of a start near the solution at eps_start (node barriers on: the node
   // barriers added to the midpoints' solution, the whole road from its stitched windows, an
   // --init lap) by Newton's homotopy H(v, t) = F(v) - (1 - t) F(v0) = 0, followed from the start

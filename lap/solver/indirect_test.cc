@@ -69,6 +69,33 @@ TEST(IndirectTest, NodeBarriersSwitchedOnByTheirShareEndOnTheSameLap) {
   EXPECT_NEAR(a.lap_time_extrapolated, b.lap_time_extrapolated, 1e-7 * b.lap_time);
 }
 
+// The barrier continuation's correctors stop where a Newton step is not shorter than
+// arclength_contraction_max times the one before; where the path with that bound does not reach
+// eps_end it is followed again without it, to the lap it reaches without the bound (the same
+// steps from the same start). A bound no corrector can meet makes the first path fail.
+TEST(IndirectTest, AContinuationThatFailsWithTheContractionBoundIsFollowedAgainWithout) {
+  const Vehicle v = Bx15();
+  const MeshedRoad p(v, StraightRoad(300.0), 2.0);
+  const auto solve = [&](double bound, SolveSummary* summary) {
+    IndirectOptions options;
+    options.arclength_contraction_max = bound;
+    const LapSolution sol = SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, options, summary);
+    EXPECT_TRUE(summary->converged) << summary->message;
+    return sol;
+  };
+  SolveSummary unmeetable, without;
+  const LapSolution a = solve(1e-12, &unmeetable);
+  const LapSolution b = solve(HUGE_VAL, &without);
+  const auto failed = [](const SolveSummary& s) {
+    return std::count_if(s.steps.begin(), s.steps.end(), [](const ContinuationStep& c) { return !c.converged; });
+  };
+  EXPECT_GT(failed(unmeetable), failed(without));
+  EXPECT_GT(unmeetable.iterations, without.iterations);
+  EXPECT_EQ(a.eps, b.eps);
+  EXPECT_NEAR(a.lap_time, b.lap_time, 1e-9 * b.lap_time);
+  EXPECT_NEAR(a.lap_time_extrapolated, b.lap_time_extrapolated, 1e-9 * b.lap_time);
+}
+
 // From the QSS guess Levenberg-Marquardt's first solve hands over to Newton's homotopy once it is
 // near (IndirectOptions::homotopy_handoff), and ends on the lap that LM alone reaches (the same
 // discrete problem).

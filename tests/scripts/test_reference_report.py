@@ -150,7 +150,8 @@ class ReferenceReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase)
         sizes = [0.001 * (i if i % 2 else -i) for i in range(12)]  # key11 the largest, key0 and key1 the smallest
         text, _ = self.run_report(fx.add_sensitivities(write_reference_lap(self.path("lap.h5")), sizes))
         section = text.split("## What buys lap time")[1]
-        self.assertIn("the 10 largest of 12", section)
+        self.assertIn("the 10 largest of the 12 design values", section)  # no sensitivity/kind: all design
+        self.assertNotIn("Not changes to the bike", section)
         self.assertLess(section.index("`section.key11` | 12 | +0.011 s"), section.index("`section.key10` | 11 | -0.010 s"))
         self.assertNotIn("`section.key1`", section)
         self.assertNotIn("`section.key0`", section)
@@ -159,9 +160,25 @@ class ReferenceReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase)
         lap = fx.add_sensitivities(write_reference_lap(self.path("lap.h5")), [0.1, np.nan])
         text, _ = self.run_report(lap)
         section = text.split("## What buys lap time")[1]
-        self.assertIn("the 1 largest of 2", section)
+        self.assertIn("the 1 largest of the 2 design values", section)
         self.assertIn("`section.key0` | 1 | +0.100 s", section)
         self.assertIn("Without a finite figure (left out): `section.key1`", section)
+
+    def test_only_design_values_rank_as_what_buys_lap_time(self):
+        kinds = ["design", "condition", "design", "reference", "rider"]
+        lap = fx.add_sensitivities(write_reference_lap(self.path("lap.h5")), [0.1, -9.0, -0.2, 0.5, np.nan], kinds)
+        section = self.run_report(lap)[0].split("## What buys lap time")[1]
+        design, others = section.split("Not changes to the bike")
+        self.assertIn("the 2 largest of the 2 design values", design)
+        self.assertLess(design.index("`section.key2` | 3 | -0.200 s"), design.index("`section.key0` | 1 | +0.100 s"))
+        self.assertNotIn("`section.key1`", design)
+        self.assertIn("| `section.key1` | condition | 2 | -9.000 s |", others)
+        self.assertIn("| `section.key3` | reference | 4 | +0.500 s |", others)
+        self.assertIn("Without a finite figure (left out): `section.key4`", others)
+
+    def test_a_kind_for_each_key(self):
+        lap = fx.add_sensitivities(write_reference_lap(self.path("lap.h5")), [0.1, 0.2], ["design"])
+        self.refused(lap, "lap.h5", "dataset 'sensitivity/kind' has 1 values, expected 2")
 
     def refused(self, lap, *words, extra=()):
         result = fx.run("reference_report.py", lap, "-o", self.report, *extra)

@@ -27,7 +27,7 @@ class TracksReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
 
     def test_a_row_per_circuit(self):
         laps = [fx.add_sensitivities(self.circuit("hill", (0, 3.2e-5, 0.48, "z_dot"), start="flying", banking=-0.2),
-                                     [0.5, -1.25, float("nan")]),
+                                     [0.5, -1.25, float("nan"), -3.0], ["design", "design", "design", "condition"]),
                 self.circuit("flat", (1, 1e-6, 5e-4, "V"), start="standing"), self.circuit("old")]
         out = self.path("report", "report.md")
         self.assert_ok(fx.run("tracks_report.py", *laps, "-o", out))
@@ -37,7 +37,8 @@ class TracksReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase):
         # 20 m/s at the first node
         # (the hill banked 0.2 rad, 11.5 deg; the others version 1, level across)
         road, lap = "| 1.00 | 10 | 500.0 |", "| 1:40.0 | 36.0 | 108.0 | 3.00 (25.0 %) |"
-        # (the hill's sensitivities: section.key1 buys most, 1.25 s; the others have none)
+        # (the hill's sensitivities: of the design values section.key1 buys most, 1.25 s, a condition
+        # more; the others have none)
         self.assertEqual(rows[1:], [f"| hill {road} 11.5 {lap} flying at 72.0 km/h | yes | lap time 0.0032 %, z_dot 48.0 % "
                                     "(failed) | `section.key1` -1.25 s |",
                                     f"| flat {road} 0.0 {lap} standing at 72.0 km/h | yes | lap time 0.0001 %, passed | - |",

@@ -65,13 +65,16 @@ def write_lap(path, omega_group="control", schema="ttz.lap", version=1, drop=(),
     return path
 
 
-def add_sensitivities(path, per_percent):
+def add_sensitivities(path, per_percent, kinds=None):
     """Adds sensitivity/* to the lap.h5 at `path`: keys section.key0, section.key1, ... with values
-    1, 2, ... and these seconds per 1 % more."""
+    1, 2, ..., these seconds per 1 % more and, when given, these kinds (else no sensitivity/kind,
+    as in the laps written before it)."""
     with h5py.File(path, "a") as h5:
         h5.create_dataset("sensitivity/key", data=[f"section.key{i}" for i in range(len(per_percent))])
         h5.create_dataset("sensitivity/value", data=np.arange(1.0, len(per_percent) + 1))
         h5.create_dataset("sensitivity/per_percent", data=np.asarray(per_percent, dtype=float))
+        if kinds is not None:
+            h5.create_dataset("sensitivity/kind", data=list(kinds))
     return path
 
 
