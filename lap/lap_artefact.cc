@@ -161,6 +161,7 @@ void WriteAttributes(ArtefactWriter& w, const LapSolution& sol, const SolveSumma
   w.WriteAttribute("window_overlap_m", p.solver_options.window_overlap_m);
   w.WriteAttribute("window_eps_end", p.solver_options.window_eps_end);
   w.WriteAttribute("window_charge_price", p.solver_options.window_charge_price_s_per_j);
+  w.WriteBoolAttribute("first_step_in_windows", summary.first_step_in_windows);
   w.WriteAttribute("bike_yaml", p.bike_yaml);
   w.WriteAttribute("road_file", p.road_file);
   w.WriteAttribute("road_sha256", p.road_sha256);

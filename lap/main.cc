@@ -229,15 +229,14 @@ IpoptOptions IpoptOptionsOf(const Arguments& a) {
   return ipopt;
 }
 
-// What lap.h5 records of the options the solver ran with (docs/lap_h5.md): the windows only where
-// the first step is solved in them, on a road of `length` [m] longer than one and not from --init.
-LapSolverOptions SolverOptionsOf(const Arguments& a, const IpoptOptions& ipopt, const IndirectOptions& indirect,
-                                 double length) {
+// What lap.h5 records of the options the solver ran with (docs/lap_h5.md); whether it did solve
+// its first step in windows is the summary's (SolveSummary::first_step_in_windows).
+LapSolverOptions SolverOptionsOf(const Arguments& a, const IpoptOptions& ipopt, const IndirectOptions& indirect) {
   if (a.solver == "ipopt")
     return {ipopt.max_iterations, ipopt.mu_globalization, ipopt.mu_strategy, ipopt.mu_init, 0.0, 0.0, 0.0, 0.0};
-  if (!indirect.SolvesInWindows(length) || !a.init.empty()) return {indirect.max_iterations, "", "", 0.0, 0.0, 0.0, 0.0, 0.0};
-  return {indirect.max_iterations, "", "", 0.0, indirect.window_m, indirect.window_overlap_m, indirect.window_eps_end,
-          indirect.window_charge_price_s_per_j};
+  const bool windows = indirect.window_m > 0.0;
+  return {indirect.max_iterations, "", "", 0.0, indirect.window_m, windows ? indirect.window_overlap_m : 0.0,
+          windows ? indirect.window_eps_end : 0.0, indirect.window_charge_price_s_per_j};
 }
 
 // The one place that dispatches on --solver.
@@ -340,7 +339,7 @@ int Run(const Arguments& a) {
   const std::vector<DesignSensitivity> sensitivities = Sensitivities(bike, track, sol, summary, options.num_threads);
   WriteLap(a.output, v, sol, summary, channels, qss, resim, sensitivities,
            {a.solver, BikeToYaml(bike), a.road, road_sha256, track.Length(), a.init, a.mesh, mesh_from_init,
-            start.kind, start.lap_time, a.start, SolverOptionsOf(a, ipopt, options, track.Length())});
+            start.kind, start.lap_time, a.start, SolverOptionsOf(a, ipopt, options)});
   std::cout << (a.json ? LapReportJson(sol, summary, channels.figures, resim, sensitivities)
                        : LapReportText(sol, summary, channels.figures, resim, sensitivities))
             << std::flush;

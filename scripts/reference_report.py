@@ -62,7 +62,6 @@ import ttz_h5
 
 KMH = 3.6  # (km/h) per (m/s)
 SENSITIVITY_ROWS = 10
-OTHER_KINDS = ("rider", "condition", "reference")  # sensitivity/kind other than design (lap/sensitivity.h)
 CHANNELS = ("t", "state/V", "tyre/force_x", "wheel/power", "battery/power", "battery/current",
             "battery/voltage", "motor/voltage", "motor/current")
 VIOLATION_TOLERANCE = 1e-4   # docs/lap_h5.md: the check allows 1e-4
@@ -120,7 +119,7 @@ def sensitivity_lines(sensitivities):
              f"the solve (lap/sensitivity.h); the {len(largest)} largest of the {designs} design values.", ""
              ] + study_report.table(["bike value", "value", "lap time per 1 % more"], rows)
     others = []
-    for kind in OTHER_KINDS:
+    for kind in ttz_h5.SENSITIVITY_KINDS[1:]:  # after design
         found, lost = ttz_h5.largest_sensitivities(sensitivities, len(sensitivities), kind)
         others += [[f"`{key}`", kind, f"{value:.6g}", f"{per_percent:+.3f} s"] for key, value, per_percent, _ in found]
         missing += lost

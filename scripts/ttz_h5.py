@@ -20,6 +20,8 @@ LAP_SCHEMA = "ttz.lap"
 # reference_report.py, lap_plots.py and tracks_report.py read where it is (sensitivities() below; its
 # sensitivity/kind came later within version 4). Any other version is refused.
 LAP_VERSIONS = (1, 2, 3, 4)
+# The kinds of sensitivity/kind (SensitivityKind, lap/sensitivity.h).
+SENSITIVITY_KINDS = ("design", "rider", "condition", "reference")
 ROAD_SCHEMA = "ttz.road"
 # Version 2 (docs/road_h5.md) adds banking (road_banking() below reads version 1 as level).
 ROAD_VERSIONS = (1, 2)
@@ -177,6 +179,10 @@ def sensitivities(lap):
     if len(kinds) != len(keys):
         raise InputError(lap.path, f"dataset 'sensitivity/kind' has {len(kinds)} values, expected "
                          f"{len(keys)} (one per sensitivity/key)")
+    unknown = sorted(set(kinds) - set(SENSITIVITY_KINDS))
+    if unknown:
+        raise InputError(lap.path, f"dataset 'sensitivity/kind': unknown kind '{unknown[0]}', expected one of "
+                         + ", ".join(SENSITIVITY_KINDS))
     return list(zip(keys, lap.data("sensitivity/value", len(keys)),
                     lap.data("sensitivity/per_percent", len(keys)), kinds))
 

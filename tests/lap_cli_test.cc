@@ -425,6 +425,8 @@ TEST_F(LapCli, ARoadLongerThan5kmIsSolvedInWindows) {
   const ttz::ArtefactReader windows(Path("default.h5"), "ttz.lap", 4);
   EXPECT_EQ(windows.ReadDoubleAttribute("window_m"), 3000.0);
   EXPECT_EQ(windows.ReadDoubleAttribute("window_overlap_m"), 500.0);
+  // in one iteration the first window fails, and the whole road is solved from the guess
+  EXPECT_FALSE(windows.ReadBoolAttribute("first_step_in_windows"));
   EXPECT_EQ(windows.ReadIntAttribute("max_iterations"), 1);  // given: not the long road's 600
   for (const std::string& other : {std::string(" --window 0"), std::string(" --set limits.roll_rate_weight_s2_per_rad2=0")}) {
     const CliRun warned = Lap(long_road + " " + kBike + " --ds 100 -q --max-iterations 1" + other, "other.h5");
@@ -598,6 +600,8 @@ TEST_F(LapCli, TheIndirectSolverSolvesInWindowsWhenAsked) {
   const ttz::ArtefactReader whole(Path("whole.h5"), "ttz.lap", 4), windows(Path("windows.h5"), "ttz.lap", 4);
   EXPECT_EQ(whole.ReadDoubleAttribute("window_m"), 0.0);
   EXPECT_EQ(whole.ReadDoubleAttribute("window_overlap_m"), 0.0);
+  EXPECT_FALSE(whole.ReadBoolAttribute("first_step_in_windows"));
+  EXPECT_TRUE(windows.ReadBoolAttribute("first_step_in_windows"));
   EXPECT_EQ(windows.ReadDoubleAttribute("window_m"), 200.0);
   EXPECT_EQ(windows.ReadDoubleAttribute("window_overlap_m"), 50.0);
   EXPECT_EQ(whole.ReadDoubleAttribute("window_eps_end"), 0.0);
@@ -605,12 +609,12 @@ TEST_F(LapCli, TheIndirectSolverSolvesInWindowsWhenAsked) {
   // the QSS lap's price on charge (QssChargePrice): ~0, the full pack lasts this lap at full power
   EXPECT_EQ(whole.ReadDoubleAttribute("window_charge_price"), 0.0);
   EXPECT_NEAR(windows.ReadDoubleAttribute("window_charge_price"), 0.0, 1e-8);
-  // a warm start has costates: its first step is not solved in windows, and lap.h5 says none
+  // a warm start has costates: its first step is not solved in windows, and lap.h5 says so
   ASSERT_EQ(Lap(road + " " + kBike + " --ds 4 -q --window 200 --window-overlap 50 --init " + Path("windows.h5"),
                 "warm.h5").exit_code, 0);
   const ttz::ArtefactReader warm(Path("warm.h5"), "ttz.lap", 4);
-  EXPECT_EQ(warm.ReadDoubleAttribute("window_m"), 0.0);
-  EXPECT_EQ(warm.ReadDoubleAttribute("window_overlap_m"), 0.0);
+  EXPECT_EQ(warm.ReadDoubleAttribute("window_m"), 200.0);
+  EXPECT_FALSE(warm.ReadBoolAttribute("first_step_in_windows"));
   // more steps than the whole road's continuation: the windows' come first (SolveSummary::steps)
   EXPECT_GT(windows.ReadVector("continuation/eps", "1").size(), whole.ReadVector("continuation/eps", "1").size());
   EXPECT_NEAR(windows.ReadDoubleAttribute("lap_time"), whole.ReadDoubleAttribute("lap_time"),

@@ -72,10 +72,18 @@ ceres::Solver::Options CeresOptions(const IndirectOptions& options) {
 // at eps0 down to eps_end (FollowPath); every point is appended to `steps` with its lap time. At a
 // turning point of the curve (eps starts to grow: the points below it in eps are on another
 // branch) `turning_point` says where on the road the solution turns. Where the path with the bound
-// on the correctors' contraction (arclength_contraction_max) does not reach eps_end, it is
-// followed again from eps0 without the bound. True when eps_end was reached.
-bool TraceCurve(const IndirectOptions& options, Transcription* tr,
-                double eps0, std::vector<ContinuationStep>* steps, std::string* turning_point) {
+// on the correctors' contraction (arclength_contraction_max) turns, or does not reach eps_end
+// within kBoundedPathIterations, it is followed again from eps0 without the bound (not where its
+// steps shrank to nothing: the correctors without the bound fail there too, on the TT course with
+// gears 4.2 and 4.3 at eps 9.7e-4 and 1.23e-3); `*last_from` is the index in `steps` where the last
+// path's points start (0 without such a retry). True when eps_end was reached.
+// Newton iterations of a path with the bound on the correctors' contraction before it is followed
+// again without it (TraceCurve): a bounded path may creep, its correctors stopped and its steps
+// halved; the whole TT course's took 119 (docs/lap_log.md, session 51).
+constexpr int kBoundedPathIterations = 400;
+
+bool TraceCurve(const IndirectOptions& options, Transcription* tr, double eps0,
+                std::vector<ContinuationStep>* steps, size_t* last_from, std::string* turning_point) {
   CurveSystem sys(tr);
   BarrierPath path(&sys);
   PathSettings settings;
@@ -117,17 +125,23 @@ bool TraceCurve(const IndirectOptions& options, Transcription* tr,
   };
   const std::vector<double> w0 = tr->w;
   const std::vector<NodeData> mids0 = tr->mids;
+  const bool bounded = std::isfinite(settings.max_contraction);
+  if (bounded) settings.max_iterations = kBoundedPathIterations;
   Eigen::VectorXd turn;
+  *last_from = 0;
   PathEnd end = FollowPath(&sys, &path, std::log(eps0), settings, report, &turn);
-  if (end != PathEnd::kReached && std::isfinite(settings.max_contraction)) {
+  if (bounded && (end == PathEnd::kTurned || end == PathEnd::kExhausted)) {
     // A stopped corrector shortens the step, and a shorter step may follow the curve into a
     // turning point that a full corrector steps over (docs/lap_log.md, session 51).
-    Log(LogKind::kInfo, "arclength: again from eps " + std::to_string(eps0) +
-                            " without the bound on the correctors' contraction");
+    std::ostringstream o;
+    o << "arclength: again from eps " << eps0 << " without the bound on the correctors' contraction";
+    Log(LogKind::kInfo, o.str());
     tr->w = w0;
     tr->mids = mids0;
     tr->KeepControlsAsStarts();
     settings.max_contraction = std::numeric_limits<double>::infinity();
+    settings.max_iterations = std::numeric_limits<int>::max();
+    *last_from = steps->size();
     end = FollowPath(&sys, &path, std::log(eps0), settings, report, &turn);
   }
   if (end == PathEnd::kTurned) {
@@ -252,19 +266,20 @@ struct Continuation {
 };
 
 // Follows the solution curve (TraceCurve) from the last converged step of `c` down to
-// options.eps_end, appending its points to `summary` and the converged ones to `c` (the last two
-// give the extrapolation); the unknowns stay at its last converged point, whose residual levels
+// options.eps_end, appending its points to `summary` and the converged ones of its last path (a
+// bounded one given up on is not: TraceCurve) to `c` (the last two give the extrapolation); the unknowns stay at its last converged point, whose residual levels
 // (those of the path's tolerance, or the final one at eps_end) become c's. 0 when eps_end was
 // reached, else the weight where the curve stopped (failed or turned).
 double FollowCurve(const IndirectOptions& options, Transcription* tr, Continuation* c,
                    SolveSummary* summary) {
   const double eps0 = c->good.back().eps;
   std::vector<ContinuationStep> curve;
-  const bool reached = TraceCurve(options, tr, eps0, &curve, &c->turning_point);
-  for (const ContinuationStep& s : curve) {
-    summary->iterations += s.iterations;
-    summary->steps.push_back(s);
-    if (s.converged) c->good.push_back(s);
+  size_t last_from = 0;  // a path given up on and followed again: only the last one's points count
+  const bool reached = TraceCurve(options, tr, eps0, &curve, &last_from, &c->turning_point);
+  for (size_t i = 0; i < curve.size(); ++i) {
+    summary->iterations += curve[i].iterations;
+    summary->steps.push_back(curve[i]);
+    if (curve[i].converged && i >= last_from) c->good.push_back(curve[i]);
   }
   tr->weight = WeightFor(c->good.back().eps);
   ResidualLevels(tr, &c->max_all, &c->max_state);
@@ -603,6 +618,7 @@ LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
       windowed.retry_eps_start = 0.0;
     }
     const bool ok = SolveFirstStepInWindows(v, road, mesh, windowed, &x, &lambda, &u, &windows);
+    summary->first_step_in_windows = ok;
     IndirectOptions whole = ok ? windowed : options;
     whole.window_m = 0.0;
     if (ok) whole.eps_start = WindowsEpsEnd(windowed);

@@ -69,10 +69,11 @@ TEST(IndirectTest, NodeBarriersSwitchedOnByTheirShareEndOnTheSameLap) {
   EXPECT_NEAR(a.lap_time_extrapolated, b.lap_time_extrapolated, 1e-7 * b.lap_time);
 }
 
-// The barrier continuation's correctors stop where a Newton step is not shorter than
+// The barrier continuation's correctors stop where a Newton step is longer than
 // arclength_contraction_max times the one before; where the path with that bound does not reach
-// eps_end it is followed again without it, to the lap it reaches without the bound (the same
-// steps from the same start). A bound no corrector can meet makes the first path fail.
+// eps_end within its iterations it is followed again without it, to the lap it reaches without the
+// bound, by the same steps from the same start. With a bound of 1e-12 every corrector that needs a
+// second Newton step stops, so the path creeps by steps that one step corrects and gives up.
 TEST(IndirectTest, AContinuationThatFailsWithTheContractionBoundIsFollowedAgainWithout) {
   const Vehicle v = Bx15();
   const MeshedRoad p(v, StraightRoad(300.0), 2.0);
@@ -91,6 +92,14 @@ TEST(IndirectTest, AContinuationThatFailsWithTheContractionBoundIsFollowedAgainW
   };
   EXPECT_GT(failed(unmeetable), failed(without));
   EXPECT_GT(unmeetable.iterations, without.iterations);
+  // the last path: the steps without the bound, after its first two (the first solve and the
+  // first step with the node barriers)
+  ASSERT_GT(without.steps.size(), 2u);
+  const size_t offset = unmeetable.steps.size() - without.steps.size();
+  for (size_t i = 2; i < without.steps.size(); ++i) {
+    EXPECT_EQ(unmeetable.steps[offset + i].eps, without.steps[i].eps) << i;
+    EXPECT_EQ(unmeetable.steps[offset + i].converged, without.steps[i].converged) << i;
+  }
   EXPECT_EQ(a.eps, b.eps);
   EXPECT_NEAR(a.lap_time, b.lap_time, 1e-9 * b.lap_time);
   EXPECT_NEAR(a.lap_time_extrapolated, b.lap_time_extrapolated, 1e-9 * b.lap_time);

@@ -76,6 +76,8 @@ struct SolveSummary {
   // node constraints (ipopt_direct.h) the nodes too.
   std::vector<double> max_violation;
   int control_failures = 0;                    // nodes whose H_u = 0 Newton did not converge
+  bool first_step_in_windows = false;          // the indirect solver's first step was solved in
+                                               // windows (IndirectOptions::window_m)
 };
 
 // Why the solve did not converge: the summary's message without its trailing separator ("" when

@@ -180,6 +180,10 @@ class ReferenceReportTest(fx.TempFolder, fx.ScriptAssertions, unittest.TestCase)
         lap = fx.add_sensitivities(write_reference_lap(self.path("lap.h5")), [0.1, 0.2], ["design"])
         self.refused(lap, "lap.h5", "dataset 'sensitivity/kind' has 1 values, expected 2")
 
+    def test_an_unknown_kind_is_refused(self):
+        lap = fx.add_sensitivities(write_reference_lap(self.path("lap.h5")), [0.1], ["weather"])
+        self.refused(lap, "lap.h5", "unknown kind 'weather', expected one of design, rider, condition, reference")
+
     def refused(self, lap, *words, extra=()):
         result = fx.run("reference_report.py", lap, "-o", self.report, *extra)
         self.assert_refused(result, "error:", *words, absent=(self.report,))
