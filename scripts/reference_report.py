@@ -126,7 +126,7 @@ def sensitivity_lines(sensitivities):
     if others:
         lines += ["", "Not changes to the bike (sensitivity/kind): the rider's limits, the day's and the start's "
                   "conditions, and the motor's reference temperature (the temperature its constants are given at):", ""
-                  ] + study_report.table(["value", "kind", "value", "lap time per 1 % more"], others)
+                  ] + study_report.table(["bike value", "kind", "value", "lap time per 1 % more"], others)
     if missing:
         lines += ["", "Without a finite figure (left out): " + ", ".join(f"`{key}`" for key in missing)]
     return lines

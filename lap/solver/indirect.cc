@@ -72,10 +72,11 @@ ceres::Solver::Options CeresOptions(const IndirectOptions& options) {
 // at eps0 down to eps_end (FollowPath); every point is appended to `steps` with its lap time. At a
 // turning point of the curve (eps starts to grow: the points below it in eps are on another
 // branch) `turning_point` says where on the road the solution turns. Where the path with the bound
-// on the correctors' contraction (arclength_contraction_max) turns, or does not reach eps_end
-// within kBoundedPathIterations, it is followed again from eps0 without the bound (not where its
-// steps shrank to nothing: the correctors without the bound fail there too, on the TT course with
-// gears 4.2 and 4.3 at eps 9.7e-4 and 1.23e-3); `*last_from` is the index in `steps` where the last
+// on the correctors' contraction (arclength_contraction_max) does not reach eps_end within
+// kBoundedPathIterations (it turned, its steps shrank to nothing, or it crept), it is followed
+// again from eps0 without the bound, so that the bound never ends a path higher than the path
+// without it: on the TT course gear 4.2's bounded path stopped at eps 1.66e-3, its unbounded one
+// at 9.7e-4 (docs/lap_log.md, session 51). `*last_from` is the index in `steps` where the last
 // path's points start (0 without such a retry). True when eps_end was reached.
 // Newton iterations of a path with the bound on the correctors' contraction before it is followed
 // again without it (TraceCurve): a bounded path may creep, its correctors stopped and its steps
@@ -116,9 +117,13 @@ bool TraceCurve(const IndirectOptions& options, Transcription* tr, double eps0,
       if (!point.last)
         o << ", d log eps / ds " << point.slope << ", step " << point.length << ", turn "
           << point.turn << " rad";
-    } else {
+    } else {  // where its last iterate's largest residual sits (FollowPath has not reset it yet)
+      double max_all, max_state;
+      ResidualPeak peak;
+      ResidualLevels(tr, &max_all, &max_state, &peak);
       o << "FAILED in " << step.iterations << " iterations, " << step.seconds
-        << " s, max residual " << point.max_residual << ", step " << point.length;
+        << " s, max residual " << point.max_residual << " (" << max_all << " at " << DescribePeak(*tr, peak)
+        << "), step " << point.length;
     }
     Log(LogKind::kInfo, o.str());
     steps->push_back(step);
@@ -130,7 +135,7 @@ bool TraceCurve(const IndirectOptions& options, Transcription* tr, double eps0,
   Eigen::VectorXd turn;
   *last_from = 0;
   PathEnd end = FollowPath(&sys, &path, std::log(eps0), settings, report, &turn);
-  if (bounded && (end == PathEnd::kTurned || end == PathEnd::kExhausted)) {
+  if (bounded && end != PathEnd::kReached) {
     // A stopped corrector shortens the step, and a shorter step may follow the curve into a
     // turning point that a full corrector steps over (docs/lap_log.md, session 51).
     std::ostringstream o;

@@ -286,7 +286,7 @@ PathEnd FollowPath(CurveSystem* sys, PathFamily* family, double p0, const PathSe
     if (point.iterations <= 3) ds = 1.5 * dsi;
     else if (point.iterations >= 6) ds = 0.7 * dsi;
   }
-  return PathEnd::kExhausted;
+  return PathEnd::kFailed;
 }
 
 }  // namespace ttz::lap

@@ -185,19 +185,19 @@ struct PathPoint {
                                // failed or the last step: 0)
 };
 
-enum class PathEnd { kReached, kTurned, kFailed, kExhausted };
+enum class PathEnd { kReached, kTurned, kFailed };
 
 // Follows the solution curve of `family` from the solution at p0 in `sys` (G(v, p0) = 0) towards
 // settings.p_end: predictor along the unit tangent of (v, p), Newton corrector on
 // [G; t^T (y - y_pred)] = 0 (the bordered system), the step grown after an easy corrector (<= 3
 // iterations) and shrunk after a hard one (>= 6), halved after a failed one (one that spent
 // corrector_iterations, diverged, did not contract (max_contraction) or, with stop_stalled,
-// stalled; the unknowns and the
-// controls' Newton starts back at the last point); the last step lands on p_end and converges
+// stalled; the unknowns and the controls' Newton starts back at the last point, after the step is
+// reported with the unknowns at its last iterate); the last step lands on p_end and converges
 // there by Newton on F. Reports every step; stops at a turning point (p starts to go back:
-// kTurned, with the tangent there in `turn`), when a step shrinks below 1e-6 in p (kFailed), or
-// after 400 steps or when the iterations exceed their budget (kExhausted). The unknowns are left
-// at the last converged point.
+// kTurned, with the tangent there in `turn`), after 400 steps, when a step shrinks below 1e-6 in p
+// or the iterations exceed their budget (kFailed). The unknowns are left at the last converged
+// point.
 PathEnd FollowPath(CurveSystem* sys, PathFamily* family, double p0, const PathSettings& settings,
                    const std::function<void(const PathPoint&)>& report, Eigen::VectorXd* turn);
 
