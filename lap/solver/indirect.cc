@@ -68,6 +68,11 @@ ceres::Solver::Options CeresOptions(const IndirectOptions& options) {
   return so;
 }
 
+// Newton iterations of a path with the bound on the correctors' contraction before it is followed
+// again without it (TraceCurve): a bounded path may creep, its correctors stopped and its steps
+// halved; the whole TT course's took 119 (docs/lap_log.md, session 51).
+constexpr int kBoundedPathIterations = 400;
+
 // Follows the barrier continuation's solution curve (BarrierPath) from the converged point in `tr`
 // at eps0 down to eps_end (FollowPath); every point is appended to `steps` with its lap time. At a
 // turning point of the curve (eps starts to grow: the points below it in eps are on another
@@ -78,11 +83,6 @@ ceres::Solver::Options CeresOptions(const IndirectOptions& options) {
 // without it: on the TT course gear 4.2's bounded path stopped at eps 1.66e-3, its unbounded one
 // at 9.7e-4 (docs/lap_log.md, session 51). `*last_from` is the index in `steps` where the last
 // path's points start (0 without such a retry). True when eps_end was reached.
-// Newton iterations of a path with the bound on the correctors' contraction before it is followed
-// again without it (TraceCurve): a bounded path may creep, its correctors stopped and its steps
-// halved; the whole TT course's took 119 (docs/lap_log.md, session 51).
-constexpr int kBoundedPathIterations = 400;
-
 bool TraceCurve(const IndirectOptions& options, Transcription* tr, double eps0,
                 std::vector<ContinuationStep>* steps, size_t* last_from, std::string* turning_point) {
   CurveSystem sys(tr);
@@ -271,10 +271,11 @@ struct Continuation {
 };
 
 // Follows the solution curve (TraceCurve) from the last converged step of `c` down to
-// options.eps_end, appending its points to `summary` and the converged ones of its last path (a
-// bounded one given up on is not: TraceCurve) to `c` (the last two give the extrapolation); the unknowns stay at its last converged point, whose residual levels
-// (those of the path's tolerance, or the final one at eps_end) become c's. 0 when eps_end was
-// reached, else the weight where the curve stopped (failed or turned).
+// options.eps_end, appending its points to `summary` and the converged ones of its last path (not
+// those of a bounded one given up on: TraceCurve) to `c` (the last two give the extrapolation);
+// the unknowns stay at its last converged point, whose residual levels (those of the path's
+// tolerance, or the final one at eps_end) become c's. 0 when eps_end was reached, else the weight
+// where the curve stopped (failed or turned).
 double FollowCurve(const IndirectOptions& options, Transcription* tr, Continuation* c,
                    SolveSummary* summary) {
   const double eps0 = c->good.back().eps;
