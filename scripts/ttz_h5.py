@@ -102,11 +102,11 @@ class Artefact:
         """True if the dataset exists."""
         return name in self.h5 and hasattr(self.h5[name], "shape")
 
-    def strings(self, name):
-        """String dataset `name` as a list of str."""
+    def strings(self, name, length=None):
+        """String dataset `name` as a list of str; checks its length."""
         if not self.has(name):
             raise InputError(self.path, f"missing dataset '{name}'")
-        return [_text(value) for value in np.asarray(self.h5[name][()]).reshape(-1)]
+        return [_text(value) for value in self._checked_length(name, np.asarray(self.h5[name][()]).reshape(-1), length)]
 
     def data(self, name, length=None):
         """Dataset `name` as a float array (its units: docs/*_h5.md); checks its length."""
@@ -116,6 +116,10 @@ class Artefact:
             values = np.asarray(self.h5[name][()], dtype=float).reshape(-1)
         except (TypeError, ValueError):
             raise InputError(self.path, f"dataset '{name}' is not numeric") from None
+        return self._checked_length(name, values, length)
+
+    def _checked_length(self, name, values, length):
+        """`values` of dataset `name`, unless `length` is given and they are not that many."""
         if length is not None and values.size != length:
             raise InputError(self.path, f"dataset '{name}' has {values.size} values, "
                              f"expected {length}")
@@ -175,10 +179,7 @@ def sensitivities(lap):
     if not lap.has("sensitivity/key"):
         return []
     keys = lap.strings("sensitivity/key")
-    kinds = lap.strings("sensitivity/kind") if lap.has("sensitivity/kind") else ["design"] * len(keys)
-    if len(kinds) != len(keys):
-        raise InputError(lap.path, f"dataset 'sensitivity/kind' has {len(kinds)} values, expected "
-                         f"{len(keys)} (one per sensitivity/key)")
+    kinds = lap.strings("sensitivity/kind", len(keys)) if lap.has("sensitivity/kind") else ["design"] * len(keys)
     unknown = sorted(set(kinds) - set(SENSITIVITY_KINDS))
     if unknown:
         raise InputError(lap.path, f"dataset 'sensitivity/kind': unknown kind '{unknown[0]}', expected one of "

@@ -68,6 +68,22 @@ ceres::Solver::Options CeresOptions(const IndirectOptions& options) {
   return so;
 }
 
+// The unknowns and the midpoints' controls of `tr` where a path starts, to go back to where it is
+// given up on (with the controls as the Newton starts of the next solves).
+class PathStart {
+ public:
+  explicit PathStart(const Transcription& tr) : w_(tr.w), mids_(tr.mids) {}
+  void Restore(Transcription* tr) const {
+    tr->w = w_;
+    tr->mids = mids_;
+    tr->KeepControlsAsStarts();
+  }
+
+ private:
+  std::vector<double> w_;
+  std::vector<NodeData> mids_;
+};
+
 // Newton iterations of a path with the bound on the correctors' contraction before it is followed
 // again without it (TraceCurve): a bounded path may creep, its correctors stopped and its steps
 // halved; the whole TT course's took 119 (docs/lap_log.md, session 51).
@@ -128,8 +144,7 @@ bool TraceCurve(const IndirectOptions& options, Transcription* tr, double eps0,
     Log(LogKind::kInfo, o.str());
     steps->push_back(step);
   };
-  const std::vector<double> w0 = tr->w;
-  const std::vector<NodeData> mids0 = tr->mids;
+  const PathStart start(*tr);
   const bool bounded = std::isfinite(settings.max_contraction);
   if (bounded) settings.max_iterations = kBoundedPathIterations;
   Eigen::VectorXd turn;
@@ -141,9 +156,7 @@ bool TraceCurve(const IndirectOptions& options, Transcription* tr, double eps0,
     std::ostringstream o;
     o << "arclength: again from eps " << eps0 << " without the bound on the correctors' contraction";
     Log(LogKind::kInfo, o.str());
-    tr->w = w0;
-    tr->mids = mids0;
-    tr->KeepControlsAsStarts();
+    start.Restore(tr);
     settings.max_contraction = std::numeric_limits<double>::infinity();
     settings.max_iterations = std::numeric_limits<int>::max();
     *last_from = steps->size();
@@ -164,8 +177,7 @@ bool TraceCurve(const IndirectOptions& options, Transcription* tr, double eps0,
 bool FollowFromStart(const IndirectOptions& options, CurveSystem* sys, PathFamily* family,
                      const char* name, int* iterations) {
   Transcription* tr = sys->transcription();
-  const std::vector<double> w0 = tr->w;
-  const std::vector<NodeData> mids0 = tr->mids;
+  const PathStart start(*tr);
   PathSettings settings;
   settings.p_end = 1.0;
   settings.first_dp = 0.1;
@@ -188,9 +200,7 @@ bool FollowFromStart(const IndirectOptions& options, CurveSystem* sys, PathFamil
   Log(LogKind::kInfo, std::string(name) +
                           (end == PathEnd::kTurned ? ": a turning point" : ": failed") +
                           "; back to its start");
-  tr->w = w0;
-  tr->mids = mids0;
-  tr->KeepControlsAsStarts();
+  start.Restore(tr);
   return false;
 }
 

@@ -72,9 +72,9 @@ struct IndirectOptions {
   // turning point that full correctors step over: on the TT course's first 5 km (5 m) 0.5 and 1
   // met one at eps 1.33e-4 and 1.36e-4, and 0.7 left the calibrated bike's weave at one at eps
   // 7.2e-4 instead of 3.0e-4. So where the path with the bound does not reach eps_end, it is
-  // followed again without it (TraceCurve, indirect.cc). On the whole course (the benchmark of docs/lap_log.md, session
-  // 51) 0.7 took 155.7 s and 3,727 iterations, 1 161.8 s and 3,655, none 184.9 s and 3,914, one
-  // after the other, the same lap.
+  // followed again without it (TraceCurve, indirect.cc). On the whole course (the benchmark of
+  // docs/lap_log.md, session 51) 0.7 took 155.7 s and 3,727 iterations, 1 161.8 s and 3,655, none
+  // 184.9 s and 3,914, one after the other, the same lap.
   double arclength_contraction_max = 0.7;
   // The first step of a start near the solution at eps_start (node barriers on: the node
   // barriers added to the midpoints' solution, the whole road from its stitched windows, an
