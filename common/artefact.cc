@@ -26,6 +26,11 @@ class Handle {
   Handle& operator=(const Handle&) = delete;
   hid_t get() const { return id_; }
   bool valid() const { return id_ >= 0; }
+  hid_t release() {  // the caller closes it
+    const hid_t id = id_;
+    id_ = -1;
+    return id;
+  }
 
  private:
   hid_t id_;
@@ -194,22 +199,47 @@ struct ArtefactReader::Impl {
     return a;
   }
 
-  template <typename T>
-  std::vector<T> Read(const std::string& name, const std::string& expected_units, hid_t mem_type) const {
+  // Opens dataset `name` (the caller closes it), checked to be a 1-D array of numbers (or of
+  // variable-length strings) with units `expected_units`; its length in `n`.
+  hid_t Open1D(const std::string& name, const std::string& expected_units, bool strings, hsize_t* n) const {
     if (!Exists(name)) throw InputError(path, "dataset '" + name + "' is missing");
     Handle dataset(H5Dopen2(file, name.c_str(), H5P_DEFAULT), H5Dclose);
     Handle space(H5Dget_space(dataset.get()), H5Sclose);
     Handle type(H5Dget_type(dataset.get()), H5Tclose);
     const H5T_class_t cls = H5Tget_class(type.get());
-    if (H5Sget_simple_extent_ndims(space.get()) != 1 || (cls != H5T_FLOAT && cls != H5T_INTEGER))
-      throw InputError(path, "dataset '" + name + "' is not a 1-D numeric array");
+    const bool of_kind = strings ? cls == H5T_STRING && H5Tis_variable_str(type.get()) > 0
+                                 : cls == H5T_FLOAT || cls == H5T_INTEGER;
+    if (H5Sget_simple_extent_ndims(space.get()) != 1 || !of_kind)
+      throw InputError(path, "dataset '" + name + "' is not a 1-D " + (strings ? "string" : "numeric") + " array");
     const std::string units = ReadStringAttributeOf(dataset.get(), "units", Where(name));
     if (units != expected_units)
       throw InputError(path, "dataset '" + name + "' has units '" + units + "', '" + expected_units + "' expected");
+    H5Sget_simple_extent_dims(space.get(), n, nullptr);
+    return dataset.release();
+  }
+
+  template <typename T>
+  std::vector<T> Read(const std::string& name, const std::string& expected_units, hid_t mem_type) const {
     hsize_t n = 0;
-    H5Sget_simple_extent_dims(space.get(), &n, nullptr);
+    Handle dataset(Open1D(name, expected_units, false, &n), H5Dclose);
     std::vector<T> values(n);
     if (n > 0) Check(H5Dread(dataset.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), "reading " + name);
+    return values;
+  }
+
+  std::vector<std::string> ReadStrings(const std::string& name) const {
+    hsize_t n = 0;
+    Handle dataset(Open1D(name, "1", true, &n), H5Dclose);
+    Handle memtype(H5Tcopy(H5T_C_S1), H5Tclose);
+    H5Tset_size(memtype.get(), H5T_VARIABLE);
+    H5Tset_cset(memtype.get(), H5T_CSET_UTF8);
+    std::vector<char*> texts(n, nullptr);
+    if (n > 0) Check(H5Dread(dataset.get(), memtype.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, texts.data()), "reading " + name);
+    std::vector<std::string> values;
+    for (char* text : texts) {
+      values.emplace_back(text ? text : "");
+      H5free_memory(text);
+    }
     return values;
   }
 
@@ -260,6 +290,10 @@ std::vector<double> ArtefactReader::ReadVector(const std::string& name, const st
 }
 std::vector<int64_t> ArtefactReader::ReadIntVector(const std::string& name, const std::string& expected_units) const {
   return impl_->Read<int64_t>(name, expected_units, H5T_NATIVE_INT64);
+}
+
+std::vector<std::string> ArtefactReader::ReadStringVector(const std::string& name) const {
+  return impl_->ReadStrings(name);
 }
 
 double ArtefactReader::ReadDoubleAttribute(const std::string& name) const {

@@ -65,6 +65,8 @@ class ArtefactReader {
   // or its `units` attribute differs from `expected_units`.
   std::vector<double> ReadVector(const std::string& name, const std::string& expected_units) const;
   std::vector<int64_t> ReadIntVector(const std::string& name, const std::string& expected_units) const;
+  // The same for a 1-D array of variable-length strings (ArtefactWriter::WriteStringVector), units "1".
+  std::vector<std::string> ReadStringVector(const std::string& name) const;
 
   // Throw InputError naming the file and attribute when missing or of another type.
   double ReadDoubleAttribute(const std::string& name) const;

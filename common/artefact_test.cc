@@ -46,6 +46,7 @@ TEST_F(Artefact, RoundTripsVectorsAndAttributes) {
   EXPECT_EQ(r.ReadVector("s", "m"), big);
   EXPECT_EQ(r.ReadVector("left/lat", "deg"), (std::vector<double>{54.1, 54.2}));
   EXPECT_EQ(r.ReadIntVector("points/line", "1"), (std::vector<int64_t>{2, 3, 4}));
+  EXPECT_EQ(r.ReadStringVector("names"), (std::vector<std::string>{"a", "bb"}));
   EXPECT_DOUBLE_EQ(r.ReadDoubleAttribute("length_m"), 60.7e3);
   EXPECT_EQ(r.ReadIntAttribute("iterations"), 42);
   EXPECT_EQ(r.ReadStringAttribute("crs"), "+proj=tmerc");
@@ -59,6 +60,7 @@ TEST_F(Artefact, ReaderRejectsWhatIsWrongNamingIt) {
   {
     ArtefactWriter w(Path("a.h5"), "ttz.road", 1);
     w.WriteVector("s", {0, 1}, "m", "abscissa");
+    w.WriteStringVector("kind", {"design"}, "kinds");
     w.Commit();
   }
   const auto message = [&](auto f) {
@@ -80,6 +82,9 @@ TEST_F(Artefact, ReaderRejectsWhatIsWrongNamingIt) {
   ArtefactReader r(Path("a.h5"), "ttz.road", 1);
   EXPECT_NE(message([&] { r.ReadVector("s", "km"); }).find("units 'm', 'km' expected"), std::string::npos);
   EXPECT_NE(message([&] { r.ReadVector("kappa", "1/m"); }).find("dataset 'kappa' is missing"), std::string::npos);
+  EXPECT_NE(message([&] { r.ReadStringVector("s"); }).find("dataset 's' is not a 1-D string array"), std::string::npos);
+  EXPECT_NE(message([&] { r.ReadVector("kind", "1"); }).find("dataset 'kind' is not a 1-D numeric array"),
+            std::string::npos);
   EXPECT_NE(message([&] { r.ReadDoubleAttribute("length_m"); }).find("attribute 'length_m' is missing"),
             std::string::npos);
   EXPECT_NE(message([&] { ArtefactReader(Path("none.h5"), "ttz.road", 1); }).find("file not found"), std::string::npos);

@@ -197,8 +197,10 @@ TEST_F(LapCli, AStraightRoadSolvesWritesLapH5AndWarmStartsTheNextSolve) {
   const std::vector<double> per_percent = r.ReadVector("sensitivity/per_percent", "s");
   const std::vector<std::string> keys = ttz::lap::SensitivityKeys();
   ASSERT_EQ(per_percent.size(), keys.size());
-  EXPECT_TRUE(r.HasDataset("sensitivity/key"));
-  EXPECT_TRUE(r.HasDataset("sensitivity/kind"));
+  EXPECT_EQ(r.ReadStringVector("sensitivity/key"), keys);
+  const std::vector<std::string> kinds = r.ReadStringVector("sensitivity/kind");
+  ASSERT_EQ(kinds.size(), keys.size());
+  for (size_t i = 0; i < keys.size(); ++i) EXPECT_EQ(kinds[i], ttz::lap::SensitivityKind(keys[i])) << keys[i];
   const auto of = [&](const std::string& key) {
     return per_percent[std::find(keys.begin(), keys.end(), key) - keys.begin()];
   };

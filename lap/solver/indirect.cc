@@ -15,6 +15,7 @@
 #include "common/log.h"
 #include "lap/solver/node.h"
 #include "lap/solver/solution_curve.h"
+#include "lap/solver/sparse_lu.h"
 #include "lap/solver/transcription.h"
 #include "lap/solver/window_stitch.h"
 
@@ -277,6 +278,7 @@ struct Continuation {
   double max_all = HUGE_VAL, max_state = HUGE_VAL;  // residual levels of the last converged step
   double failed_eps = 0.0;             // > 0 when the continuation gave up there
   std::string turning_point;           // where the solution turned, when it stopped at a turn
+  std::string near_singular;           // where J is nearest singular, when it stopped otherwise
   double below_end_stopped_eps = 0.0;  // > 0 when the curve below eps_end stopped there
 };
 
@@ -464,6 +466,24 @@ void FollowBelowEpsEnd(const IndirectOptions& options, const Vehicle& v, Transcr
   }
 }
 
+// Where the Jacobian at the unknowns in `tr` and weight eps is nearest singular: the states that
+// the vector of its smallest |eigenvalue| moves (SmallestEigenvalue, ten steps), "" when it is not
+// found. At the gear study's stops on the TT course that vector lies in the wheel torque or the
+// roll rate over 300-430 m of road, on a converged lap along half of it (docs/lap_log.md
+// "Session 52").
+std::string NearSingularDirection(Transcription* tr, double eps) {
+  CurveSystem sys(tr);
+  Eigen::VectorXd F, x;
+  Eigen::SparseMatrix<double> J;
+  double eigenvalue = 0.0;
+  if (!sys.Evaluate(eps, &F, &J, nullptr) ||
+      !SmallestEigenvalue(J, CurveSystem::kJacobianForm, 10, &eigenvalue, &x))
+    return "";
+  std::ostringstream o;
+  o << "eigenvalue " << eigenvalue << ": " << sys.DescribeStateDirection(x);
+  return o.str();
+}
+
 // The honesty checks of the answer: why it is not converged, or "" when it is.
 std::string Verdict(const IndirectOptions& options, const Continuation& c,
                     const SolveSummary& summary) {
@@ -472,6 +492,7 @@ std::string Verdict(const IndirectOptions& options, const Continuation& c,
   if (c.failed_eps > 0.0) {
     why << "continuation failed at eps " << c.failed_eps;
     if (!c.turning_point.empty()) why << " (a turning point: " << c.turning_point << ")";
+    else if (!c.near_singular.empty()) why << " (where its Jacobian is nearest singular, " << c.near_singular << ")";
     why << "; ";
   }
   if (c.below_end_stopped_eps > 0.0)
@@ -681,6 +702,8 @@ LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
   if (!c.good.empty()) tr.weight = WeightFor(c.good.back().eps);
   LapSolution sol = NodeSolution(v, tr, summary);
   FollowBelowEpsEnd(options, v, &tr, &c, summary, &sol);
+  if (c.failed_eps > 0.0 && c.turning_point.empty() && !c.good.empty())
+    c.near_singular = NearSingularDirection(&tr, c.good.back().eps);
   sol.eps = tr.weight.eps;
   sol.lap_time_extrapolated = c.good.empty() ? sol.lap_time : Extrapolate(c.good);
   summary->max_residual = c.max_all;

@@ -45,14 +45,33 @@ TEST(IndirectTest, StraightLevelRoadFromAStandingStart) {
 
 // The indirect solver on a 300 m straight (2 m mesh) from its QSS guess, with the options `set`
 // changes from the defaults; it is expected to converge.
-LapSolution SolveStraight300(const std::function<void(IndirectOptions*)>& set, SolveSummary* summary) {
+LapSolution SolveStraight300(const std::function<void(IndirectOptions*)>& set, SolveSummary* summary,
+                             bool converges = true) {
   const Vehicle v = Bx15();
   const MeshedRoad p(v, StraightRoad(300.0), 2.0);
   IndirectOptions options;
   set(&options);
   const LapSolution sol = SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, options, summary);
-  EXPECT_TRUE(summary->converged) << summary->message;
+  EXPECT_EQ(summary->converged, converges) << summary->message;
   return sol;
+}
+
+// A continuation that stops other than at a turning point says where its Jacobian is nearest
+// singular (the vector of its smallest |eigenvalue|): here Levenberg-Marquardt's continuation
+// (arclength off) whose second step has one iteration and no retry.
+TEST(IndirectTest, AStoppedContinuationSaysWhereItsJacobianIsNearestSingular) {
+  SolveSummary summary;
+  SolveStraight300(
+      [](IndirectOptions* o) {
+        o->arclength = false;
+        o->max_step_iterations = 1;
+        o->max_retries = 0;
+      },
+      &summary, false);
+  EXPECT_NE(summary.message.find("continuation failed at eps"), std::string::npos) << summary.message;
+  EXPECT_NE(summary.message.find("(where its Jacobian is nearest singular, eigenvalue "), std::string::npos)
+      << summary.message;
+  EXPECT_NE(summary.message.find(": the solution moves most in "), std::string::npos) << summary.message;
 }
 
 // From the QSS guess the first solve is of the midpoints' barriers alone, and the node barriers

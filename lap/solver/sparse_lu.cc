@@ -1,6 +1,7 @@
 #include "lap/solver/sparse_lu.h"
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include <Eigen/UmfPackSupport>
@@ -83,6 +84,21 @@ bool SolveSquare(const Eigen::SparseMatrix<double>& J, Staircase form, const Eig
   if (!lu.Compute(J)) return false;
   *x = lu.Solve(b);
   return x->allFinite();
+}
+
+bool SmallestEigenvalue(const Eigen::SparseMatrix<double>& J, Staircase form, int iterations,
+                        double* eigenvalue, Eigen::VectorXd* x) {
+  StaircaseLU lu(form);
+  if (!lu.Compute(J)) return false;
+  *x = Eigen::VectorXd::Ones(J.cols()).normalized();
+  for (int it = 0; it < iterations; ++it) {
+    const Eigen::VectorXd y = lu.Solve(*x);
+    const double norm = y.norm();
+    if (!std::isfinite(norm) || norm == 0.0) return false;
+    *eigenvalue = 1.0 / norm;
+    *x = y / norm;
+  }
+  return iterations > 0;
 }
 
 bool SolveBordered(const Eigen::SparseMatrix<double>& J, Staircase form, const Eigen::VectorXd& c,

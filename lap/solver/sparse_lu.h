@@ -17,6 +17,13 @@ namespace ttz::lap {
 bool SolveSquare(const Eigen::SparseMatrix<double>& J, Staircase form, const Eigen::VectorXd& b,
                  Eigen::VectorXd* x);
 
+// The smallest |eigenvalue| of J in staircase `form`, estimated by `iterations` steps of inverse
+// iteration (x <- J^-1 x / |J^-1 x| from a vector of ones, one LU of J), and its unit vector in
+// `x`; false when J is singular or the iterates are not finite. Where the continuation stalls it
+// says where J is nearest singular (IndirectOptions, docs/lap_log.md "Session 52").
+bool SmallestEigenvalue(const Eigen::SparseMatrix<double>& J, Staircase form, int iterations,
+                        double* eigenvalue, Eigen::VectorXd* x);
+
 // Solves the bordered system [J c; a^T] x = b (J n x n, c and b of size n and n + 1, a of size
 // n + 1) by block elimination with the staircase LU of J alone (Keller's bordering
 // algorithm): J y = b_J, J z = c, x_n = (b_n - a_J.y) / (a_n - a_J.z), x_J = y - z x_n. Where J is

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -85,6 +86,21 @@ TEST(SparseLuTest, SquareSystemAgainstDenseLu) {
   ASSERT_TRUE(SolveSquare(p.J, kForm, p.b.head(kN), &x));
   const Eigen::VectorXd dense = Eigen::MatrixXd(p.J).partialPivLu().solve(p.b.head(kN));
   EXPECT_LE((x - dense).lpNorm<Eigen::Infinity>(), 1e-12);
+}
+
+// Pinched, J has the eigenvalue 1e-6 with the eigenvector e_17, its others near 8: inverse
+// iteration finds that pair.
+TEST(SparseLuTest, SmallestEigenvalueOfAPinchedJ) {
+  Bordered p;
+  p.Pinch(17, 1e-6);
+  double eigenvalue = 0.0;
+  Eigen::VectorXd x;
+  ASSERT_TRUE(SmallestEigenvalue(p.J, kForm, 4, &eigenvalue, &x));
+  EXPECT_NEAR(eigenvalue, 1e-6, 1e-15);
+  EXPECT_NEAR(std::abs(x[17]), 1.0, 1e-12);
+  EXPECT_NEAR(x.norm(), 1.0, 1e-12);
+  p.Pinch(17, 0.0);
+  EXPECT_FALSE(SmallestEigenvalue(p.J, kForm, 4, &eigenvalue, &x));
 }
 
 }  // namespace
