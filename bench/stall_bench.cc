@@ -3,8 +3,8 @@
 // weight of LAP.h5 (a lap of ROAD; a failed one holds its last converged point), and printed:
 // - its largest residual and where it sits;
 // - the tangent of the solution curve, dv/d log eps, and where it moves the states most;
-// - the smallest |eigenvalue| of its Jacobian J (SmallestEigenvalue, ten steps) and where its
-//   vector moves the states: a near-null direction that Newton cannot resolve;
+// - a unit vector x that its Jacobian J maps to nearly zero (NearNullVector: inverse iteration),
+//   |J x| and where x moves the states: a near-null direction that Newton cannot resolve;
 // - Newton at the file's weight and 2 % below it (12 iterations, to 1e-8: the tolerance of the
 //   continuation's last step).
 // KEY=VALUE arguments override bike.yaml values as `lap --set` does (the bike the lap was solved
@@ -30,19 +30,21 @@ using namespace ttz::lap;
 Transcription LapTranscription(const Vehicle& v, const RoadTrack& road, const WarmStart& lap) {
   const SolverGuess g = ResampleWarmStart(lap, v, lap.s);
   Transcription tr = MakeTranscription(v, road, lap.s, g.x, g.lambda, g.u, 2);
-  for (size_t k = 0; k < tr.mids.size(); ++k)
-    for (int i = 0; i < kNumControls; ++i) tr.mids[k].u_start[i] = g.u_interval[k][i] / tr.sc.control[i];
+  tr.StartControlsAt(g.u_interval);
   return tr;
 }
 
+// Newton at eps from the unknowns and control starts in `sys`, which it leaves as they were.
 void NewtonFrom(CurveSystem* sys, double eps, const char* what) {
   const Eigen::VectorXd start = sys->Get();
+  const std::vector<NodeData> mids = sys->transcription()->mids;
   double residual = 0.0;
   int iterations = 0;
   const bool ok = NewtonAtFixedEps(sys, eps, 1e-8, 12, &residual, &iterations);
   std::printf("Newton at %s (eps %.6g): %s in %d iterations, max residual %.3e\n", what, eps,
               ok ? "converged" : "FAILED", iterations, residual);
   sys->Set(start);
+  sys->transcription()->mids = mids;
 }
 
 }  // namespace
@@ -70,9 +72,11 @@ int main(int argc, char** argv) {
                 DescribePeak(tr, peak).c_str());
     if (!SolveSquare(J, CurveSystem::kJacobianForm, -Fp, &x)) throw std::runtime_error("J is singular");
     std::printf("tangent dv/d log eps: norm %.3e; %s\n", x.norm(), sys.DescribeStateDirection(x).c_str());
-    double smallest = 0.0;
-    if (!SmallestEigenvalue(J, CurveSystem::kJacobianForm, 10, &smallest, &x)) throw std::runtime_error("J is singular");
-    std::printf("smallest |eigenvalue| of J ~ %.3e; its vector: %s\n", smallest, sys.DescribeStateDirection(x).c_str());
+    double shrunk = 0.0;
+    if (!NearNullVector(J, CurveSystem::kJacobianForm, kNearNullIterations, &x, &shrunk))
+      throw std::runtime_error("J is singular");
+    std::printf("near-null vector x of J (inverse iteration): |J x| = %.3e; %s\n", shrunk,
+                sys.DescribeStateDirection(x).c_str());
     NewtonFrom(&sys, lap.eps, "the file's weight");
     NewtonFrom(&sys, 0.98 * lap.eps, "2 % below");
   } catch (const std::exception& e) {

@@ -210,7 +210,8 @@ struct ArtefactReader::Impl {
     const bool of_kind = strings ? cls == H5T_STRING && H5Tis_variable_str(type.get()) > 0
                                  : cls == H5T_FLOAT || cls == H5T_INTEGER;
     if (H5Sget_simple_extent_ndims(space.get()) != 1 || !of_kind)
-      throw InputError(path, "dataset '" + name + "' is not a 1-D " + (strings ? "string" : "numeric") + " array");
+      throw InputError(path, "dataset '" + name + "' is not a 1-D " + (strings ? "variable-length string" : "numeric") +
+                                 " array");
     const std::string units = ReadStringAttributeOf(dataset.get(), "units", Where(name));
     if (units != expected_units)
       throw InputError(path, "dataset '" + name + "' has units '" + units + "', '" + expected_units + "' expected");
@@ -230,9 +231,10 @@ struct ArtefactReader::Impl {
   std::vector<std::string> ReadStrings(const std::string& name) const {
     hsize_t n = 0;
     Handle dataset(Open1D(name, "1", true, &n), H5Dclose);
+    Handle type(H5Dget_type(dataset.get()), H5Tclose);
     Handle memtype(H5Tcopy(H5T_C_S1), H5Tclose);
     H5Tset_size(memtype.get(), H5T_VARIABLE);
-    H5Tset_cset(memtype.get(), H5T_CSET_UTF8);
+    H5Tset_cset(memtype.get(), H5Tget_cset(type.get()));
     std::vector<char*> texts(n, nullptr);
     if (n > 0) Check(H5Dread(dataset.get(), memtype.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, texts.data()), "reading " + name);
     std::vector<std::string> values;

@@ -82,7 +82,8 @@ TEST_F(Artefact, ReaderRejectsWhatIsWrongNamingIt) {
   ArtefactReader r(Path("a.h5"), "ttz.road", 1);
   EXPECT_NE(message([&] { r.ReadVector("s", "km"); }).find("units 'm', 'km' expected"), std::string::npos);
   EXPECT_NE(message([&] { r.ReadVector("kappa", "1/m"); }).find("dataset 'kappa' is missing"), std::string::npos);
-  EXPECT_NE(message([&] { r.ReadStringVector("s"); }).find("dataset 's' is not a 1-D string array"), std::string::npos);
+  EXPECT_NE(message([&] { r.ReadStringVector("s"); }).find("dataset 's' is not a 1-D variable-length string array"),
+            std::string::npos);
   EXPECT_NE(message([&] { r.ReadVector("kind", "1"); }).find("dataset 'kind' is not a 1-D numeric array"),
             std::string::npos);
   EXPECT_NE(message([&] { r.ReadDoubleAttribute("length_m"); }).find("attribute 'length_m' is missing"),

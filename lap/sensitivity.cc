@@ -109,8 +109,7 @@ std::vector<DesignSensitivity> DesignSensitivities(const BikeParams& bike, const
   const Vehicle v = MakeVehicle(bike);
   Transcription tr = MakeTranscription(v, road, sol.s, sol.x, sol.lambda, sol.u, threads);
   tr.weight = WeightFor(sol.eps);
-  for (size_t k = 0; k < tr.mids.size(); ++k)  // the Newtons for u~* start at the intervals' own
-    for (int i = 0; i < kNumControls; ++i) tr.mids[k].u_start[i] = sol.u_interval[k][i] / tr.sc.control[i];
+  tr.StartControlsAt(sol.u_interval);  // the Newtons for u~* start at the intervals' own
   double max_residual = 0.0, max_defect = 0.0;
   ResidualLevels(&tr, &max_residual, &max_defect);  // also the node barriers' gradients and u~*
   if (!(max_residual <= kRebuiltResidual)) {

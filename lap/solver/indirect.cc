@@ -466,21 +466,22 @@ void FollowBelowEpsEnd(const IndirectOptions& options, const Vehicle& v, Transcr
   }
 }
 
-// Where the Jacobian at the unknowns in `tr` and weight eps is nearest singular: the states that
-// the vector of its smallest |eigenvalue| moves (SmallestEigenvalue, ten steps), "" when it is not
-// found. At the gear study's stops on the TT course that vector lies in the wheel torque or the
-// roll rate over 300-430 m of road, on a converged lap along half of it (docs/lap_log.md
-// "Session 52").
+// Where the Jacobian at the unknowns in `tr` and weight eps is nearest singular: |J x| and the
+// states that the unit vector x of NearNullVector moves, "" when it is not found. At the gear
+// study's four stops of session 52 on the TT course x lay in the wheel torque or the roll rate on
+// 300-430 m of road, on the converged reference lap in the lateral position along half of it
+// (docs/lap_log.md "Session 52"). Also run where a window of the first step fails (SolveWindow),
+// whose log line then says it: one LU of the window's J and ten solves.
 std::string NearSingularDirection(Transcription* tr, double eps) {
   CurveSystem sys(tr);
   Eigen::VectorXd F, x;
   Eigen::SparseMatrix<double> J;
-  double eigenvalue = 0.0;
+  double shrunk = 0.0;
   if (!sys.Evaluate(eps, &F, &J, nullptr) ||
-      !SmallestEigenvalue(J, CurveSystem::kJacobianForm, 10, &eigenvalue, &x))
+      !NearNullVector(J, CurveSystem::kJacobianForm, kNearNullIterations, &x, &shrunk))
     return "";
   std::ostringstream o;
-  o << "eigenvalue " << eigenvalue << ": " << sys.DescribeStateDirection(x);
+  o << "|J x| = " << shrunk << " for the unit x of inverse iteration; " << sys.DescribeStateDirection(x);
   return o.str();
 }
 
@@ -492,7 +493,7 @@ std::string Verdict(const IndirectOptions& options, const Continuation& c,
   if (c.failed_eps > 0.0) {
     why << "continuation failed at eps " << c.failed_eps;
     if (!c.turning_point.empty()) why << " (a turning point: " << c.turning_point << ")";
-    else if (!c.near_singular.empty()) why << " (where its Jacobian is nearest singular, " << c.near_singular << ")";
+    else if (!c.near_singular.empty()) why << " (its Jacobian nearly singular: " << c.near_singular << ")";
     why << "; ";
   }
   if (c.below_end_stopped_eps > 0.0)

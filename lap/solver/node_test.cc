@@ -114,5 +114,24 @@ TEST(NodeTest, EliminatedControlsMinimiseHAndTheirDerivativesMatchDifferences) {
   }
 }
 
+// Where H is nearly flat in a control (here the yaw acceleration, its weight c_y a millionth of
+// the reference's), a Newton step of 2e-6 (scaled) from u* lowers H by less than its rounding,
+// so a line search on H finds no decrease: the step is taken for reducing |H_u|, and the Newton
+// from there ends where it ends from afar (docs/lap_log.md "Session 52").
+TEST(NodeTest, ControlsAreFoundWhereHIsNearlyFlatInOne) {
+  Fixture f;
+  f.v.yaw_accel_weight *= 1e-6;
+  NodeData afar;
+  afar.u_start = f.us;
+  EvaluateNode(f.v, f.sc, f.road, f.w, f.xs, f.lambda, false, &afar);
+  ASSERT_TRUE(afar.control_converged);
+  NodeData near = afar;
+  near.u_start = {afar.u[0] + 2e-6, afar.u[1]};
+  EvaluateNode(f.v, f.sc, f.road, f.w, f.xs, f.lambda, false, &near);
+  EXPECT_TRUE(near.control_converged);
+  EXPECT_NEAR(near.u[0], afar.u[0], 1e-9);
+  EXPECT_NEAR(near.u[1], afar.u[1], 1e-9);
+}
+
 }  // namespace
 }  // namespace ttz::lap

@@ -86,8 +86,8 @@ bool SolveSquare(const Eigen::SparseMatrix<double>& J, Staircase form, const Eig
   return x->allFinite();
 }
 
-bool SmallestEigenvalue(const Eigen::SparseMatrix<double>& J, Staircase form, int iterations,
-                        double* eigenvalue, Eigen::VectorXd* x) {
+bool NearNullVector(const Eigen::SparseMatrix<double>& J, Staircase form, int iterations,
+                    Eigen::VectorXd* x, double* shrunk) {
   StaircaseLU lu(form);
   if (!lu.Compute(J)) return false;
   *x = Eigen::VectorXd::Ones(J.cols()).normalized();
@@ -95,10 +95,10 @@ bool SmallestEigenvalue(const Eigen::SparseMatrix<double>& J, Staircase form, in
     const Eigen::VectorXd y = lu.Solve(*x);
     const double norm = y.norm();
     if (!std::isfinite(norm) || norm == 0.0) return false;
-    *eigenvalue = 1.0 / norm;
     *x = y / norm;
   }
-  return iterations > 0;
+  *shrunk = (J * *x).norm();
+  return std::isfinite(*shrunk);
 }
 
 bool SolveBordered(const Eigen::SparseMatrix<double>& J, Staircase form, const Eigen::VectorXd& c,

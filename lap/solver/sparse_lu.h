@@ -17,12 +17,15 @@ namespace ttz::lap {
 bool SolveSquare(const Eigen::SparseMatrix<double>& J, Staircase form, const Eigen::VectorXd& b,
                  Eigen::VectorXd* x);
 
-// The smallest |eigenvalue| of J in staircase `form`, estimated by `iterations` steps of inverse
-// iteration (x <- J^-1 x / |J^-1 x| from a vector of ones, one LU of J), and its unit vector in
-// `x`; false when J is singular or the iterates are not finite. Where the continuation stalls it
-// says where J is nearest singular (IndirectOptions, docs/lap_log.md "Session 52").
-bool SmallestEigenvalue(const Eigen::SparseMatrix<double>& J, Staircase form, int iterations,
-                        double* eigenvalue, Eigen::VectorXd* x);
+// A unit vector x that J in staircase `form` maps to nearly zero, by `iterations` steps of
+// inverse iteration (x <- J^-1 x / |J^-1 x| from a vector of ones, one LU of J), and |J x| in
+// `shrunk`: an upper bound on J's smallest singular value, and its smallest |eigenvalue| once the
+// iteration has converged to a real one. False when J is singular or the iterates are not
+// finite. Where the continuation stops it says where on the road (indirect.cc,
+// NearSingularDirection; docs/lap_log.md "Session 52").
+bool NearNullVector(const Eigen::SparseMatrix<double>& J, Staircase form, int iterations,
+                    Eigen::VectorXd* x, double* shrunk);
+inline constexpr int kNearNullIterations = 10;  // the steps NearNullVector takes in lap and stall_bench
 
 // Solves the bordered system [J c; a^T] x = b (J n x n, c and b of size n and n + 1, a of size
 // n + 1) by block elimination with the staircase LU of J alone (Keller's bordering

@@ -93,6 +93,11 @@ struct Transcription {
   void KeepControlsAsStarts() {
     for (NodeData& d : mids) d.u_start = d.u;
   }
+  // The intervals' controls of a lap (physical units, one per interval) become the Newton starts.
+  void StartControlsAt(const std::vector<ControlVector<double>>& u_interval) {
+    for (size_t k = 0; k < mids.size(); ++k)
+      for (int i = 0; i < kNumControls; ++i) mids[k].u_start[i] = u_interval[k][i] / sc.control[i];
+  }
 };
 
 // The transcription of `mesh` for vehicle `v` from a guess: scaled states and costates (zeros
