@@ -468,8 +468,8 @@ void FollowBelowEpsEnd(const IndirectOptions& options, const Vehicle& v, Transcr
 
 // Where the Jacobian at the unknowns in `tr` and weight eps is nearest singular: |J x| and the
 // states that the unit vector x of NearNullVector moves, "" when it is not found. At the gear
-// study's four stops of session 52 on the TT course x lay in the wheel torque or the roll rate on
-// 300-430 m of road, on the converged reference lap in the lateral position along half of it
+// study's five stops of session 52 on the TT course x lay in the wheel torque or the roll rate on
+// 200-430 m of road, on the converged reference lap in the lateral position along half of it
 // (docs/lap_log.md "Session 52"). Also run where a window of the first step fails (SolveWindow),
 // whose log line then says it: one LU of the window's J and ten solves.
 std::string NearSingularDirection(Transcription* tr, double eps) {
