@@ -35,9 +35,9 @@ bool ControlDerivatives(const Vehicle& v, const Scales& sc, const RoadPoint& roa
 // transcription are linear in the error of u*, so u* must be found to the rounding floor of H_u,
 // not of H. Near means a Newton step below 1e-6, or one whose decrease of H by the quadratic
 // model, -H_u.step / 2, is below 1e-12 (1 + |H|), where H is nearly flat in a control: on the TT
-// course a step of 1.1e-6 of the yaw acceleration (scaled) would have lowered H by ~1e-16, and
-// the line search, finding no decrease, left u* that far off and the interval's residual at
-// 3.3e-6 (docs/lap_log.md "Session 52"). Converged when the Newton step is below 1e-12, or below
+// course a step of 1.1e-6 of the yaw acceleration (scaled) would have lowered H = 0.168 by
+// ~6e-17, two units in its last place, and the line search, finding no decrease, left u* that far
+// off and the interval's residual at 3.3e-6 (docs/lap_log.md "Session 52"). Converged when the Newton step is below 1e-12, or below
 // 1e-9 when no trial reduces |H_u| any more.
 bool MinimiseOverControls(const Vehicle& v, const Scales& sc, const RoadPoint& road,
                           const BarrierWeight& w, const StateVector<double>& xs,
