@@ -29,15 +29,18 @@ bool ControlDerivatives(const Vehicle& v, const Scales& sc, const RoadPoint& roa
   return std::isfinite(*H) && Hu->allFinite() && Huu->allFinite();
 }
 
+constexpr double kFlat = 1e-12;  // MinimiseOverControls: below this H's changes are not resolved [1]
+
 // Damped Newton on H_u = 0 from us (a minimum of H: steps along the positive definite part of
 // H_uu with a backtracking line search on H). Near the minimum, where H stops changing in floating
 // point long before H_u does, a step is accepted when it reduces |H_u|: the residuals of the
 // transcription are linear in the error of u*, so u* must be found to the rounding floor of H_u,
-// not of H. Near means a Newton step below 1e-6, or one whose decrease of H by the quadratic
-// model, -H_u.step / 2, is below 1e-12 (1 + |H|), where H is nearly flat in a control: on the TT
-// course a step of 1.1e-6 of the yaw acceleration (scaled) would have lowered H = 0.168 by
-// ~6e-17, two units in its last place, and the line search, finding no decrease, left u* that far
-// off and the interval's residual at 3.3e-6 (docs/lap_log.md "Session 52"). Converged when the Newton step is below 1e-12, or below
+// not of H. Near means a Newton step below 1e-6, or, where H is nearly flat in a control, a step
+// whose decrease of H by the quadratic model, -H_u.step / 2, is below kFlat (1 + |H|) and whose
+// trial does not raise H by more than that: on the TT course a step of 1.1e-6 of the yaw
+// acceleration (scaled) would have lowered H = 0.168 by ~6e-17, two units in its last place, and
+// the line search, finding no decrease, left u* that far off and the interval's residual at
+// 3.3e-6 (docs/lap_log.md "Session 52"). Converged when the Newton step is below 1e-12, or below
 // 1e-9 when no trial reduces |H_u| any more.
 bool MinimiseOverControls(const Vehicle& v, const Scales& sc, const RoadPoint& road,
                           const BarrierWeight& w, const StateVector<double>& xs,
@@ -62,8 +65,9 @@ bool MinimiseOverControls(const Vehicle& v, const Scales& sc, const RoadPoint& r
       Eigen::Vector2d Hut;
       Eigen::Matrix2d Huut;
       if (!ControlDerivatives(v, sc, road, w, xs, lambda, trial, &Ht, &Hut, &Huut)) continue;
-      const bool flat = size < 1e-6 || std::abs(Hu.dot(step)) < 1e-12 * (1.0 + std::abs(H));
-      const bool near = flat && Hut.norm() < Hu.norm();
+      const double resolution = kFlat * (1.0 + std::abs(H));
+      const bool flat = -0.5 * Hu.dot(step) < resolution && Ht <= H + resolution;
+      const bool near = (size < 1e-6 || flat) && Hut.norm() < Hu.norm();
       if (Ht < H + 1e-4 * alpha * Hu.dot(step) || near) {
         *us = trial;
         H = Ht;

@@ -125,6 +125,10 @@ TEST(NodeTest, ControlsAreFoundWhereHIsNearlyFlatInOne) {
   afar.u_start = f.us;
   EvaluateNode(f.v, f.sc, f.road, f.w, f.xs, f.lambda, false, &afar);
   ASSERT_TRUE(afar.control_converged);
+  // the premise: that step changes H by less than a line search on H can resolve
+  const double H = EvaluateHamiltonian(f.v, f.sc, f.road, f.w, f.xs, afar.u, f.lambda).H;
+  const double H_off = EvaluateHamiltonian(f.v, f.sc, f.road, f.w, f.xs, {afar.u[0] + 2e-6, afar.u[1]}, f.lambda).H;
+  ASSERT_LT(std::abs(H_off - H), 1e-14 * std::abs(H));
   NodeData near = afar;
   near.u_start = {afar.u[0] + 2e-6, afar.u[1]};
   EvaluateNode(f.v, f.sc, f.road, f.w, f.xs, f.lambda, false, &near);
