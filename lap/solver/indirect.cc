@@ -278,7 +278,7 @@ struct Continuation {
   double max_all = HUGE_VAL, max_state = HUGE_VAL;  // residual levels of the last converged step
   double failed_eps = 0.0;             // > 0 when the continuation gave up there
   std::string turning_point;           // where the solution turned, when it stopped at a turn
-  std::string near_singular;           // where J is nearest singular, when it stopped otherwise
+  std::string near_singular;           // where J is nearly singular, when it stopped otherwise
   double below_end_stopped_eps = 0.0;  // > 0 when the curve below eps_end stopped there
 };
 
@@ -466,7 +466,7 @@ void FollowBelowEpsEnd(const IndirectOptions& options, const Vehicle& v, Transcr
   }
 }
 
-// Where the Jacobian at the unknowns in `tr` and weight eps is nearest singular: |J x| and the
+// Where the Jacobian at the unknowns in `tr` and weight eps is nearly singular: |J x| and the
 // states that the unit vector x of NearNullVector moves, "" when it is not found. At the gear
 // study's five stops of session 52 on the TT course x lay in the wheel torque or the roll rate on
 // 200-430 m of road, on the converged reference lap in the lateral position along half of it

@@ -56,9 +56,10 @@ LapSolution SolveStraight300(const std::function<void(IndirectOptions*)>& set, S
   return sol;
 }
 
-// A continuation that stops other than at a turning point says where its Jacobian is nearest
-// singular (the vector of its smallest |eigenvalue|): here Levenberg-Marquardt's continuation
-// (arclength off) whose second step has one iteration and no retry.
+// A continuation that stops other than at a turning point says where its Jacobian is nearly
+// singular (|J x| and where the unit x of inverse iteration moves the states): here
+// Levenberg-Marquardt's continuation (arclength off) whose second step has one iteration and no
+// retry.
 TEST(IndirectTest, AStoppedContinuationSaysWhereItsJacobianIsNearestSingular) {
   SolveSummary summary;
   SolveStraight300(
