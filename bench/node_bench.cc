@@ -81,7 +81,9 @@ int main(int argc, char** argv) {
   NodeData mid;
   mid.u_start = {z(kNumStates), z(kNumStates + 1)};
   EvaluateNode(v, node.sc, node.road, barrier_weight, xs, lambda, false, &mid);
-  mid.u_start = mid.u;
+  // Its Newton for u* starts, as in the solver, from u* of the last accepted iterate, which the
+  // states have moved from since: here 1e-3 (scaled) off in each control.
+  mid.u_start = {mid.u[0] + 1e-3, mid.u[1] - 1e-3};
   NodeBarrierData barrier;
   const double length_m = 5.0;
   const double t_mid = MicrosecondsPerCall(calls, [&] {

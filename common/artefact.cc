@@ -348,4 +348,10 @@ std::string FileSha256(const std::string& path) {
   return hex;
 }
 
+void CheckOutputFolder(const std::string& path) {
+  const std::filesystem::path folder = std::filesystem::absolute(path).parent_path();
+  if (!std::filesystem::is_directory(folder))
+    throw InputError(path, "cannot be written (the folder " + folder.string() + " does not exist)");
+}
+
 }  // namespace ttz

@@ -82,4 +82,8 @@ class ArtefactReader {
 // SHA-256 of a file's bytes as 64 lower-case hex digits (OpenSSL). Throws InputError if unreadable.
 std::string FileSha256(const std::string& path);
 
+// Throws InputError naming `path` when the folder it would be written to does not exist: the
+// command-line tools check it before their work, so a typo in -o does not cost a fit or a solve.
+void CheckOutputFolder(const std::string& path);
+
 }  // namespace ttz

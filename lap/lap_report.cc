@@ -78,6 +78,9 @@ std::string FormatLapTime(double seconds) {
 std::string LapReportText(const LapSolution& sol, const SolveSummary& summary, const LapFigures& f,
                           const ResimReport& resim, const std::vector<DesignSensitivity>& sensitivities) {
   std::ostringstream o;
+  // A solve that stopped leaves its last point, whose figures need not be a lap's (a negative
+  // energy after one iteration): said before them, not only in the line at the end.
+  if (!summary.converged) o << "NOT CONVERGED: the figures below are of the solver's last point, not of a lap\n";
   o << "lap time       " << FormatLapTime(f.lap_time) << Printf("  (%.3f s; ", f.lap_time)
     << Printf("extrapolated to no barrier: %.3f s)\n", sol.lap_time_extrapolated);
   o << "average speed  " << Printf("%.1f km/h\n", f.average_speed * kKmH);

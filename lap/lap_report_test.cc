@@ -50,6 +50,7 @@ TEST_F(LapReportFigures, TextInHumanUnits) {
   EXPECT_NE(text.find("top speed      90.0 km/h\nstart speed    18.0 km/h\n"), std::string::npos) << text;
   EXPECT_NE(text.find("re-simulation  lap time differs by 0.01 %, states by 0.025 % (V at s = 123 m)\n"), std::string::npos) << text;
   EXPECT_NE(text.find("converged      yes"), std::string::npos) << text;
+  EXPECT_EQ(text.find("NOT CONVERGED"), std::string::npos) << text;
 }
 
 TEST_F(LapReportFigures, TextSaysWhenTheReSimulationFailedOrDiverged) {
@@ -63,7 +64,9 @@ TEST_F(LapReportFigures, TextSaysWhenTheReSimulationFailedOrDiverged) {
 
 TEST_F(LapReportFigures, TextSaysWhyNotConverged) {
   summary.message = "residual 0.1; ";
-  EXPECT_NE(LapReportText(sol, summary, f, resim, {}).find("converged      no (residual 0.1)"), std::string::npos);
+  const std::string text = LapReportText(sol, summary, f, resim, {});
+  EXPECT_EQ(text.find("NOT CONVERGED: the figures below are of the solver's last point"), 0u) << text;
+  EXPECT_NE(text.find("converged      no (residual 0.1)"), std::string::npos) << text;
   EXPECT_EQ(SolveMessage(summary), "residual 0.1");
 }
 

@@ -5,7 +5,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <sstream>
@@ -155,13 +154,6 @@ void SetFlyingStart(const Arguments& a, const RoadTrack& track, BikeParams* bike
   ttz::Log(settled ? ttz::LogKind::kInfo : ttz::LogKind::kWarning, o.str());
 }
 
-// Checked before the solve, so a typo in -o does not cost the solve.
-void CheckOutputFolder(const std::string& output) {
-  const std::filesystem::path folder = std::filesystem::absolute(output).parent_path();
-  if (!std::filesystem::is_directory(folder))
-    throw ttz::InputError(output, "cannot be written (the folder " + folder.string() + " does not exist)");
-}
-
 // The --init file, checked to be a lap of this road.
 WarmStart ReadInit(const Arguments& a, const std::string& road_sha256, double road_length) {
   WarmStart ws = ReadLapForWarmStart(a.init);
@@ -308,8 +300,20 @@ std::vector<DesignSensitivity> Sensitivities(const BikeParams& bike, const RoadT
   return out;
 }
 
+// Options of the solver not chosen have no effect: said, so that a user does not read the lap as
+// solved with them.
+void WarnOfTheOtherSolversOptions(const CLI::App& app, const Arguments& a) {
+  const bool ipopt = a.solver == "ipopt";
+  const std::vector<std::string> others = ipopt ? std::vector<std::string>{"--window", "--window-overlap", "--window-eps"}
+                                                : std::vector<std::string>{"--mu-globalization", "--mu-strategy", "--mu-init"};
+  for (const std::string& option : others)
+    if (app.count(option) > 0)
+      ttz::Log(ttz::LogKind::kWarning, option + " is an option of " + (ipopt ? "the indirect solver" : "--solver ipopt") +
+                                           ": it has no effect on this solve (--solver " + a.solver + ")");
+}
+
 int Run(const Arguments& a) {
-  CheckOutputFolder(a.output);
+  ttz::CheckOutputFolder(a.output);
   const ttz::RoadArtefact road = ttz::ReadRoad(a.road);
   BikeParams bike = LoadBike(a.bike, a.overrides);
   CheckRoadFitsBike(road, a.road, bike);
@@ -377,6 +381,7 @@ int main(int argc, char** argv) {
     // Ceres logs a warning through glog for every trial step that leaves the model's domain (a
     // node at V <= 0.1 m/s, say): expected while solving, so shown only with --verbose.
     if (!arguments.verbose) FLAGS_minloglevel = google::GLOG_ERROR;
+    WarnOfTheOtherSolversOptions(app, arguments);
     return Run(arguments);
   });
 }

@@ -106,10 +106,10 @@ CentrePolyline RoughCentre(const RoadInput& input) {
   return borders ? CentreOfBorders(input) : CentreOfCentreLine(input);
 }
 
-bool LooksClosed(const CentrePolyline& centre, double gap_m) {
+double EndsGap(const CentrePolyline& centre) {
   const auto& a = centre.p.front();
   const auto& b = centre.p.back();
-  return std::hypot(a[0] - b[0], a[1] - b[1]) < gap_m;
+  return std::hypot(a[0] - b[0], a[1] - b[1]);
 }
 
 Ribbon InitialRibbon(const CentrePolyline& centre_in, double ds_m, bool closed) {

@@ -21,8 +21,8 @@ struct CentrePolyline {
 // spikes (far from both neighbours) are left out.
 CentrePolyline RoughCentre(const RoadInput& input);
 
-// True when a circuit's polyline ends within `gap_m` of its start.
-bool LooksClosed(const CentrePolyline& centre, double gap_m);
+// Horizontal distance between the polyline's last and first points [m].
+double EndsGap(const CentrePolyline& centre);
 
 // Nodes every ~ds metres of the polyline's arc length (zeta), states from smoothed finite
 // differences, controls from the differences of the states; s = zeta.

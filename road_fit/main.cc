@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "common/artefact.h"
 #include "common/command_line.h"
 #include "common/error.h"
 #include "common/log.h"
@@ -55,12 +56,14 @@ int Run(const Arguments& a) {
   ttz::road::FitOptions fit = a.fit;
   fit.topology = a.closed ? ttz::road::Topology::kClosed
                           : a.open ? ttz::road::Topology::kOpen : ttz::road::Topology::kAuto;
+  ttz::CheckOutputFolder(a.output);
   const ttz::road::RoadInput input = ttz::road::ReadRoadInput(a.input, read);
+  ttz::road::FitSummary summary;
+  const ttz::road::Ribbon ribbon = ttz::road::FitRibbon(input, fit, &summary);
+  // After the fit, so that an input the fit refuses gets its one line alone.
   if (input.carries_banking && !fit.level && input.format != "centre-line")
     ttz::Log(ttz::LogKind::kInfo, a.input + ": the banking is fitted from the borders' elevations; give --level "
                                             "if they come from an elevation model (docs/road_fit_inputs.md)");
-  ttz::road::FitSummary summary;
-  const ttz::road::Ribbon ribbon = ttz::road::FitRibbon(input, fit, &summary);
   const ttz::RoadArtefact road =
       ttz::road::MakeRoadArtefact(input, ttz::road::SampleRibbon(ribbon, fit.ds_m), fit, summary);
   ttz::WriteRoad(a.output, road);

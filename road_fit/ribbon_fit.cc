@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "common/error.h"
 #include "common/log.h"
 #include "road_fit/initial_guess.h"
 #include "road_fit/ribbon_costs.h"
@@ -182,6 +183,23 @@ void PointResiduals(const RoadInput& input, const std::vector<Station>& stations
   summary->rms_distance_m = std::sqrt(sum2 / std::max<size_t>(1, input.points.size()));
 }
 
+// Whether the road is fitted as a circuit: as asked, or (kAuto) when its ends are close. A circuit
+// asked for whose ends are far apart is an input error, one with a smaller gap a warning.
+bool IsClosed(const RoadInput& input, const CentrePolyline& centre, const FitOptions& options) {
+  const double gap = EndsGap(centre);
+  if (options.topology == Topology::kAuto) return gap < options.closure_gap_m;
+  if (options.topology == Topology::kOpen) return false;
+  char text[200];
+  std::snprintf(text, sizeof text, "the road's ends are %.0f m apart", gap);
+  if (gap > options.max_closing_gap_m)
+    throw InputError(input.file, std::string(text) + ", too far for --closed (a circuit's ends meet; at most " +
+                                     std::to_string(static_cast<int>(options.max_closing_gap_m)) +
+                                     " m is bridged): drop --closed, or give the whole circuit");
+  if (gap >= options.closure_gap_m)
+    Log(LogKind::kWarning, input.file + ": " + text + "; --closed bridges them with a straight");
+  return true;
+}
+
 }  // namespace
 
 void SetControlsFromStates(Ribbon* ribbon) {
@@ -196,8 +214,7 @@ void SetControlsFromStates(Ribbon* ribbon) {
 
 Ribbon FitRibbon(const RoadInput& input, const FitOptions& options, FitSummary* summary) {
   const CentrePolyline centre = RoughCentre(input);
-  const bool closed = options.topology == Topology::kAuto ? LooksClosed(centre, options.closure_gap_m)
-                                                          : options.topology == Topology::kClosed;
+  const bool closed = IsClosed(input, centre, options);
   // The first pass runs on a coarser grid (cheaper, and it is the one that needs many iterations);
   // the next ones on the requested spacing.
   Ribbon ribbon = InitialRibbon(centre, options.ds_m * options.first_pass_coarsening, closed);

@@ -36,6 +36,10 @@ struct FitOptions {
   Topology topology = Topology::kAuto;
   // A circuit is taken as closed (kAuto) when its ends are closer than this [m].
   double closure_gap_m = 30.0;
+  // kClosed bridges a gap between the ends up to this (with a warning beyond closure_gap_m) [m];
+  // beyond it the input is not a circuit, and FitRibbon throws InputError: a Spa centre line cut
+  // at 1.5 km, its ends 682 m apart, had been closed by a made-up straight (session 53).
+  double max_closing_gap_m = 300.0;
   bool robust = false;               // Cauchy loss on the point distances (outliers)
   double robust_scale = 3.0;         // in units of sigma_e
   int projection_passes = 3;         // re-estimations of each point's abscissa (outer loop)

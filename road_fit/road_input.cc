@@ -110,7 +110,7 @@ void CheckWidth(const std::string& file, double default_width, std::vector<Obser
     if (std::isnan(o.width_m)) o.width_m = default_width;
     if (std::isnan(o.width_m))
       throw InputError(file, "no width column (width, or w_tr_right_m + w_tr_left_m) and no --width");
-    if (!(o.width_m > 0)) throw InputError(Where(file, o.line), "width " + std::to_string(o.width_m) + " m is not positive");
+    if (!(o.width_m > 0)) throw InputError(Where(file, o.line), "width " + std::to_string(o.width_m) + " m is not positive (> 0 m expected)");
   }
 }
 

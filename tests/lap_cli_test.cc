@@ -440,6 +440,25 @@ TEST_F(LapCli, ARoadLongerThan5kmIsSolvedInWindows) {
             std::string::npos);
 }
 
+// An option of the solver not chosen is said to have no effect (one warning line each), and the
+// chosen solver's own options are not.
+TEST_F(LapCli, TheOtherSolversOptionsAreSaidToHaveNoEffect) {
+  const std::string road = Road("straight100.h5", StraightRoad(100.0));
+  const std::string args = road + " " + kBike + " --ds 4 -q --max-iterations 1";
+  const CliRun indirect = Lap(args + " --mu-init 1e-3 --window 50 --window-overlap 10");
+  EXPECT_NE(indirect.stderr_text.find("lap: warning: --mu-init is an option of --solver ipopt: it has no effect on this "
+                                      "solve (--solver indirect)\n"),
+            std::string::npos)
+      << indirect.stderr_text;
+  EXPECT_EQ(indirect.stderr_text.find("--window"), std::string::npos) << indirect.stderr_text;
+  const CliRun ipopt = Lap(args + " --solver ipopt --window-eps 0.1 --mu-strategy monotone");
+  EXPECT_NE(ipopt.stderr_text.find("--window-eps is an option of the indirect solver: it has no effect on this solve "
+                                   "(--solver ipopt)"),
+            std::string::npos)
+      << ipopt.stderr_text;
+  EXPECT_EQ(ipopt.stderr_text.find("--mu-strategy"), std::string::npos) << ipopt.stderr_text;
+}
+
 // Ipopt's options file in the working directory is ignored: this one would stop it after 1 iteration.
 TEST_F(LapCli, AnIpoptOptFileInTheWorkingDirectoryIsIgnored) {
   const std::string road = Road("straight100.h5", StraightRoad(100.0));

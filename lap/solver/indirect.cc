@@ -431,14 +431,6 @@ LapSolution NodeSolution(const Vehicle& v, const Transcription& tr, SolveSummary
   return sol;
 }
 
-// Linear extrapolation of the lap time in eps through the last two converged steps to eps = 0.
-double Extrapolate(const std::vector<ContinuationStep>& good) {
-  if (good.size() < 2) return good.empty() ? 0.0 : good.back().lap_time;
-  const ContinuationStep& a = good[good.size() - 2];
-  const ContinuationStep& b = good.back();
-  return b.lap_time - (a.lap_time - b.lap_time) * b.eps / (a.eps - b.eps);
-}
-
 // The largest relative violation g_j of the answer's constraints (> 0: violated).
 double WorstViolation(const SolveSummary& summary) {
   return *std::max_element(summary.max_violation.begin(), summary.max_violation.end());
@@ -706,7 +698,7 @@ LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
   if (c.failed_eps > 0.0 && c.turning_point.empty() && !c.good.empty())
     c.near_singular = NearSingularDirection(&tr, c.good.back().eps);
   sol.eps = tr.weight.eps;
-  sol.lap_time_extrapolated = c.good.empty() ? sol.lap_time : Extrapolate(c.good);
+  sol.lap_time_extrapolated = c.good.empty() ? sol.lap_time : ExtrapolateLapTime(c.good);
   summary->max_residual = c.max_all;
   summary->max_state_defect = c.max_state;
   summary->message = Verdict(options, c, *summary);
@@ -715,6 +707,14 @@ LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
   summary->solve_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return sol;
+}
+
+double ExtrapolateLapTime(const std::vector<ContinuationStep>& converged) {
+  if (converged.empty()) return 0.0;
+  const ContinuationStep& b = converged.back();
+  for (auto a = converged.rbegin() + 1; a != converged.rend(); ++a)
+    if (a->eps >= 1.05 * b.eps) return b.lap_time - (a->lap_time - b.lap_time) * b.eps / (a->eps - b.eps);
+  return b.lap_time;
 }
 
 }  // namespace ttz::lap

@@ -188,4 +188,11 @@ LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
                           const std::vector<ControlVector<double>>& u_guess,
                           const IndirectOptions& options, SolveSummary* summary);
 
+// The lap time extrapolated linearly in eps to eps = 0 through the last converged step and the
+// latest one before it at a weight at least 5 % larger (LapSolution::lap_time_extrapolated); the
+// last step's lap time when there is none. Not simply the last two: a path that stops where its
+// steps have shrunk can end on two weights 4e-9 apart (gear 4.2 in session 52, 9.8896443e-4 and
+// 9.8896022e-4), whose slope is rounding: 2.2 s below the lap there.
+double ExtrapolateLapTime(const std::vector<ContinuationStep>& converged);
+
 }  // namespace ttz::lap

@@ -408,5 +408,18 @@ TEST(IndirectTest, AWarmFirstStepByNewtonsHomotopyEndsOnTheColdLap) {
   EXPECT_LT(by_homotopy.steps.front().iterations, by_lm.steps.front().iterations);
 }
 
+// The lap time at eps = 0, on a path whose lap time is 100 s + 1000 s * eps: through the last two
+// steps when they are apart; where the last two are 4e-9 apart and 1e-5 s of rounding separates
+// their laps (as where gear 4.2's path stopped, session 52), through the latest step 5 % heavier
+// instead, which the last two alone would have put 3.5 s too high.
+TEST(IndirectTest, TheLapTimeIsExtrapolatedThroughStepsApart) {
+  std::vector<ContinuationStep> steps = {{2e-3, 102.0}, {1e-3, 101.0}};
+  EXPECT_NEAR(ExtrapolateLapTime(steps), 100.0, 1e-12);
+  steps.push_back({1e-3 - 4e-9, 101.0 + 1e-5});
+  EXPECT_NEAR(ExtrapolateLapTime(steps), 100.0, 1e-4);
+  EXPECT_DOUBLE_EQ(ExtrapolateLapTime({{1e-3, 101.0}, {0.99e-3, 100.99}}), 100.99);  // none 5 % heavier
+  EXPECT_DOUBLE_EQ(ExtrapolateLapTime({{1e-3, 101.0}}), 101.0);
+}
+
 }  // namespace
 }  // namespace ttz::lap

@@ -9,11 +9,11 @@ namespace {
 
 constexpr int kZ = kNumStates + kNumControls;  // (x~, u~)
 
-// H, H_u and H_uu at fixed states by nested Jets over the two controls.
+// H_u and H_uu at fixed states by nested Jets over the two controls.
 bool ControlDerivatives(const Vehicle& v, const Scales& sc, const RoadPoint& road,
                         const BarrierWeight& w, const StateVector<double>& xs,
                         const StateVector<double>& lambda, const ControlVector<double>& us,
-                        double* H, Eigen::Vector2d* Hu, Eigen::Matrix2d* Huu) {
+                        Eigen::Vector2d* Hu, Eigen::Matrix2d* Huu) {
   using J1 = ceres::Jet<double, kNumControls>;
   using J2 = ceres::Jet<J1, kNumControls>;
   StateVector<J2> x;
@@ -21,65 +21,35 @@ bool ControlDerivatives(const Vehicle& v, const Scales& sc, const RoadPoint& roa
   for (int i = 0; i < kNumStates; ++i) x[i] = Cst<J2>(xs[i]);
   for (int i = 0; i < kNumControls; ++i) u[i] = J2(J1(us[i], i), i);
   const J2 h = EvaluateHamiltonian(v, sc, road, w, x, u, lambda).H;
-  *H = h.a.a;
   for (int i = 0; i < kNumControls; ++i) {
     (*Hu)(i) = h.a.v[i];
     for (int j = 0; j < kNumControls; ++j) (*Huu)(i, j) = h.v[i].v[j];
   }
-  return std::isfinite(*H) && Hu->allFinite() && Huu->allFinite();
+  return Hu->allFinite() && Huu->allFinite();
 }
 
-constexpr double kFlat = 1e-12;  // MinimiseOverControls: below this H's changes are not resolved [1]
-
-// Damped Newton on H_u = 0 from us (a minimum of H: steps along the positive definite part of
-// H_uu with a backtracking line search on H). Near the minimum, where H stops changing in floating
-// point long before H_u does, a step is accepted when it reduces |H_u|: the residuals of the
-// transcription are linear in the error of u*, so u* must be found to the rounding floor of H_u,
-// not of H. Near means a Newton step below 1e-6, or, where H is nearly flat in a control, a step
-// whose decrease of H by the quadratic model, -H_u.step / 2, is below kFlat (1 + |H|) and whose
-// trial does not raise H by more than that: on the TT course a step of 1.1e-6 of the yaw
-// acceleration (scaled) would have lowered H = 0.168 by ~6e-17, two units in its last place, and
-// the line search, finding no decrease, left u* that far off and the interval's residual at
-// 3.3e-6 (docs/lap_log.md "Session 52"). Converged when the Newton step is below 1e-12, or below
-// 1e-9 when no trial reduces |H_u| any more.
+// u~* = argmin H by one Newton step from us. H is quadratic in u~: the yaw acceleration and the
+// torque rate enter the state equations affinely (the rates of the states Omega_z and tau_w, and
+// dOmega_z/dt in eq. 13a and 16, whose accelerations solve a system linear in it), the rider's
+// effort quadratically (lap/model/cost.h), and no constraint (lap/model/constraints.h); test
+// NodeTest.HIsQuadraticInTheControls guards that. So the step lands on u* from any start, but for
+// the rounding of H_u (where H is nearly flat in a control, ~1e-16 of H_u's terms over that
+// control's curvature). H_uu = 2 diag(c_y S_y^2, c_t S_t^2) / sdot is positive definite, both
+// weights being positive (lap/bike.cc). Until session 53 a damped Newton with a line search on H
+// took at least two evaluations and was the larger part of the windows' time (perf,
+// docs/lap_log.md "Session 53").
 bool MinimiseOverControls(const Vehicle& v, const Scales& sc, const RoadPoint& road,
                           const BarrierWeight& w, const StateVector<double>& xs,
                           const StateVector<double>& lambda, ControlVector<double>* us) {
-  double H;
   Eigen::Vector2d Hu;
   Eigen::Matrix2d Huu;
-  if (!ControlDerivatives(v, sc, road, w, xs, lambda, *us, &H, &Hu, &Huu)) return false;
-  for (int it = 0; it < 60; ++it) {
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(Huu);
-    const double floor = 1e-10 * std::max(1e-300, eig.eigenvalues().cwiseAbs().maxCoeff());
-    const Eigen::Vector2d lam = eig.eigenvalues().cwiseMax(floor);
-    const Eigen::Vector2d step =
-        -(eig.eigenvectors() * lam.cwiseInverse().asDiagonal() * eig.eigenvectors().transpose()) * Hu;
-    const double size = step.lpNorm<Eigen::Infinity>();
-    if (size < 1e-12) return eig.eigenvalues().minCoeff() > 0.0;
-    double alpha = 1.0;
-    bool accepted = false;
-    for (int ls = 0; ls < 40 && !accepted; ++ls, alpha *= 0.5) {
-      const ControlVector<double> trial = {(*us)[0] + alpha * step(0), (*us)[1] + alpha * step(1)};
-      double Ht;
-      Eigen::Vector2d Hut;
-      Eigen::Matrix2d Huut;
-      if (!ControlDerivatives(v, sc, road, w, xs, lambda, trial, &Ht, &Hut, &Huut)) continue;
-      const double resolution = kFlat * (1.0 + std::abs(H));
-      const bool flat = -0.5 * Hu.dot(step) < resolution && Ht <= H + resolution;
-      const bool near = (size < 1e-6 || flat) && Hut.norm() < Hu.norm();
-      if (Ht < H + 1e-4 * alpha * Hu.dot(step) || near) {
-        *us = trial;
-        H = Ht;
-        Hu = Hut;
-        Huu = Huut;
-        accepted = true;
-      }
-    }
-    // No decrease left: at the rounding floor of H_u if the Newton step was already tiny.
-    if (!accepted) return size < 1e-9 && eig.eigenvalues().minCoeff() > 0.0;
-  }
-  return false;
+  if (!ControlDerivatives(v, sc, road, w, xs, lambda, *us, &Hu, &Huu)) return false;
+  const Eigen::LLT<Eigen::Matrix2d> llt(Huu);
+  if (llt.info() != Eigen::Success) return false;
+  const Eigen::Vector2d step = -llt.solve(Hu);
+  if (!step.allFinite()) return false;
+  for (int i = 0; i < kNumControls; ++i) (*us)[i] += step(i);
+  return true;
 }
 
 // First-order Jets over (x~, u~): F and G = H_x~ without their derivatives.

@@ -1,8 +1,8 @@
-// One mesh node of the indirect transcription: the optimal controls u*(x, lambda) = argmin_u H by a
-// damped Newton on H_u = 0, and the node's contribution to the collocation residuals, F = x~' and
+// One mesh node of the indirect transcription: the optimal controls u*(x, lambda) = argmin_u H by
+// one Newton step on H_u = 0 (H is quadratic in u), and the node's contribution to the collocation residuals, F = x~' and
 // G = H_x~ at u*, with their total derivatives with respect to the node's states and costates
 // (through u* by the implicit-function theorem). Second derivatives of H come from HyperDual
-// (lap/model/hyper_dual.h; nested Jets over the two controls for the per-node Newton).
+// (lap/model/hyper_dual.h; nested Jets over the two controls for the Newton step).
 #pragma once
 
 #include <Eigen/Dense>
@@ -25,9 +25,8 @@ struct NodeData {
   Eigen::Matrix<double, kNumControls, kNumStates> du_dx, du_dl;  // of u~* (Jacobians only)
 };
 
-// Fills `node` for scaled state xs and costate lambda; the Newton for u* starts from
-// `node->u_start`, so the residuals are a function of the unknowns alone (H may have several
-// local minima in u far from the solution). Derivatives only when `jacobians`.
+// Fills `node` for scaled state xs and costate lambda; the Newton step for u* starts from
+// `node->u_start` (u* depends on it only through rounding). Derivatives only when `jacobians`.
 void EvaluateNode(const Vehicle& v, const Scales& sc, const RoadPoint& road,
                   const BarrierWeight& w, const StateVector<double>& xs,
                   const StateVector<double>& lambda, bool jacobians, NodeData* node);

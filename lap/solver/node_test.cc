@@ -114,10 +114,31 @@ TEST(NodeTest, EliminatedControlsMinimiseHAndTheirDerivativesMatchDifferences) {
   }
 }
 
+// H is quadratic in the controls (the yaw acceleration and the torque rate enter the state
+// equations affinely, the rider's effort quadratically, no constraint at all), which the control
+// elimination relies on: its one Newton step lands on u* from any start. Third differences of H
+// along each control and a mixed direction, over steps as large as the controls' scales, vanish
+// to rounding; a term of H cubic in a control would leave 6 a_3 d^3 there.
+TEST(NodeTest, HIsQuadraticInTheControls) {
+  const Fixture f;
+  auto H = [&](const Eigen::Vector2d& u) {
+    return EvaluateHamiltonian(f.v, f.sc, f.road, f.w, f.xs, {u[0], u[1]}, f.lambda).H;
+  };
+  const Eigen::Vector2d u0(f.us[0], f.us[1]);
+  for (const Eigen::Vector2d& d : {Eigen::Vector2d(1.0, 0.0), Eigen::Vector2d(0.0, 1.0),
+                                   Eigen::Vector2d(0.7, -1.3)}) {
+    const double third = H(u0 + 2 * d) - 3 * H(u0 + d) + 3 * H(u0) - H(u0 - d);
+    const double second = H(u0 + d) - 2 * H(u0) + H(u0 - d);
+    EXPECT_GT(std::abs(second), 1e-6 * std::abs(H(u0))) << d.transpose();  // it has curvature
+    EXPECT_LT(std::abs(third), 1e-13 * std::abs(H(u0))) << d.transpose();
+  }
+}
+
 // Where H is nearly flat in a control (here the yaw acceleration, its weight c_y a millionth of
 // the reference's), a Newton step of 2e-6 (scaled) from u* lowers H by less than its rounding,
-// so a line search on H finds no decrease: the step is taken for reducing |H_u|, and the Newton
-// from there ends where it ends from afar (docs/lap_log.md "Session 52").
+// so a line search on H would find no decrease (the damped Newton of sessions 52 and before had to
+// take such a step for reducing |H_u|, docs/lap_log.md "Session 52"): the Newton from there ends
+// where it ends from afar.
 TEST(NodeTest, ControlsAreFoundWhereHIsNearlyFlatInOne) {
   Fixture f;
   f.v.yaw_accel_weight *= 1e-6;
