@@ -191,10 +191,12 @@ bool IsClosed(const RoadInput& input, const CentrePolyline& centre, const FitOpt
   if (options.topology == Topology::kOpen) return false;
   char text[200];
   std::snprintf(text, sizeof text, "the road's ends are %.0f m apart", gap);
-  if (gap > options.max_closing_gap_m)
-    throw InputError(input.file, std::string(text) + ", too far for --closed (a circuit's ends meet; at most " +
-                                     std::to_string(static_cast<int>(options.max_closing_gap_m)) +
-                                     " m is bridged): drop --closed, or give the whole circuit");
+  if (std::round(gap) > options.max_closing_gap_m) {  // as printed: never "300 m apart, at most 300 m"
+    char limit[120];
+    std::snprintf(limit, sizeof limit, ", too far for --closed (a circuit's ends meet; at most %.0f m is bridged)",
+                  options.max_closing_gap_m);
+    throw InputError(input.file, std::string(text) + limit + ": drop --closed, or give the whole circuit");
+  }
   if (gap >= options.closure_gap_m)
     Log(LogKind::kWarning, input.file + ": " + text + "; --closed bridges them with a straight");
   return true;

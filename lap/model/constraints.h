@@ -1,5 +1,6 @@
 // The path constraints of eq. 39a-g, the motor-voltage limits of section 5 and the brake bound,
-// each written as g(x, u) <= 0 scaled to order one, and the relaxed logarithmic barrier that
+// each written as g(x) <= 0 scaled to order one (the states alone: no constraint involves the
+// controls, which lap/solver/node.cc's one Newton step for them relies on), and the relaxed logarithmic barrier that
 // turns them into a penalty of the Hamiltonian (lap/solver/indirect.h).
 #pragma once
 

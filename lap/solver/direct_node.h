@@ -5,7 +5,7 @@
 //   y(z) = ( x~' = x' / S  (eq. 36-37, lap/model/dynamics.h),
 //            1 / sdot      (the time per metre of the objective, eq. 37-38),
 //            (c_y (dOmega_z/dt)^2 + c_t (dtau_w/dt)^2) / sdot (the effort of the objective, cost.h),
-//            g_j(x, u)     (eq. 39a-g, the voltage limits and the brake bound, constraints.h) ),
+//            g_j(x)        (eq. 39a-g, the voltage limits and the brake bound, constraints.h) ),
 //
 // their Jacobian dy/dz by Jets, and the Hessian of any weighted sum w^T y by HyperDual (the
 // interval's share of the Hessian of the Lagrangian, before the chain factors of

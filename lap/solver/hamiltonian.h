@@ -1,7 +1,7 @@
 // The Hamiltonian of the minimum-time problem in the arc-length domain (eq. 38) with the path
 // constraints as relaxed barrier penalties and the rider's effort, in scaled states x~ = x / S and controls u~ = u / S_u:
 //
-//   H(x~, lambda~, u~) = (1 + eps sum_j P_delta(g_j(x, u))) / sdot
+//   H(x~, lambda~, u~) = (1 + eps sum_j P_delta(g_j(x))) / sdot
 //                        + (c_y (dOmega_z/dt)^2 + c_t (dtau_w/dt)^2 + c_r omega_phi^2) / sdot
 //                        + sum_i lambda~_i x_i' / S_i
 //

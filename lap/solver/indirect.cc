@@ -284,7 +284,7 @@ struct Continuation {
 
 // Follows the solution curve (TraceCurve) from the last converged step of `c` down to
 // options.eps_end, appending its points to `summary` and the converged ones of its last path (not
-// those of a bounded one given up on: TraceCurve) to `c` (the last two give the extrapolation);
+// those of a bounded one given up on: TraceCurve) to `c` (ExtrapolateLapTime's steps);
 // the unknowns stay at its last converged point, whose residual levels (those of the path's
 // tolerance, or the final one at eps_end) become c's. 0 when eps_end was reached, else the weight
 // where the curve stopped (failed or turned).

@@ -191,8 +191,10 @@ LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
 // The lap time extrapolated linearly in eps to eps = 0 through the last converged step and the
 // latest one before it at a weight at least 5 % larger (LapSolution::lap_time_extrapolated); the
 // last step's lap time when there is none. Not simply the last two: a path that stops where its
-// steps have shrunk can end on two weights 4e-9 apart (gear 4.2 in session 52, 9.8896443e-4 and
-// 9.8896022e-4), whose slope is rounding: 2.2 s below the lap there.
+// steps have shrunk can end on two weights 4.2e-9 apart (gear 4.2 in session 52, 9.8896443e-4
+// and 9.8896022e-4), whose slope then rests on 9.3e-6 s of lap time. There it came out right
+// (1711.922 s, Ipopt 1711.929 s), but an error of 1e-6 s in either lap would have moved it by
+// 0.24 s; and after a turning point the last two need not be on one branch.
 double ExtrapolateLapTime(const std::vector<ContinuationStep>& converged);
 
 }  // namespace ttz::lap

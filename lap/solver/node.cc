@@ -34,9 +34,10 @@ bool ControlDerivatives(const Vehicle& v, const Scales& sc, const RoadPoint& roa
 // effort quadratically (lap/model/cost.h), and no constraint (lap/model/constraints.h); test
 // NodeTest.HIsQuadraticInTheControls guards that. So the step lands on u* from any start, but for
 // the rounding of H_u (where H is nearly flat in a control, ~1e-16 of H_u's terms over that
-// control's curvature). H_uu = 2 diag(c_y S_y^2, c_t S_t^2) / sdot is positive definite, both
-// weights being positive (lap/bike.cc). Until session 53 a damped Newton with a line search on H
-// took at least two evaluations and was the larger part of the windows' time (perf,
+// control's curvature). H_uu = 2 diag(c_y S_y^2, c_t S_t^2) / sdot is positive definite where
+// sdot > 0, both weights being positive (lap/bike.cc); elsewhere the node counts as a control
+// failure. Until session 53 a damped Newton with a line search on H took at least two
+// evaluations, and the nested-Jet Hamiltonian had 16 % of the windows' samples (perf,
 // docs/lap_log.md "Session 53").
 bool MinimiseOverControls(const Vehicle& v, const Scales& sc, const RoadPoint& road,
                           const BarrierWeight& w, const StateVector<double>& xs,
