@@ -117,12 +117,13 @@ bool TraceCurve(const IndirectOptions& options, Transcription* tr, double eps0,
   // path followed again without the bound where it does not reach eps_end.
   settings.stop_stalled = false;
   settings.max_contraction = options.arclength_contraction_max;
+  settings.max_turn = options.arclength_max_turn_rad;
   const auto report = [&](const PathPoint& point) {
     ContinuationStep step;
     step.eps = point.last ? options.eps_end : std::exp(point.p);
     step.iterations = point.iterations;
     step.seconds = point.seconds;
-    step.converged = point.converged;
+    step.converged = point.Accepted();  // a step that turned too sharply is not on the path
     std::ostringstream o;
     o << "arclength eps " << step.eps << ": ";
     if (point.converged) {
@@ -134,6 +135,7 @@ bool TraceCurve(const IndirectOptions& options, Transcription* tr, double eps0,
       if (!point.last)
         o << ", d log eps / ds " << point.slope << ", step " << point.length << ", turn "
           << point.turn << " rad";
+      if (point.too_sharp) o << " > " << settings.max_turn << ": retried shorter";
     } else {  // where its last iterate's largest residual sits (FollowPath has not reset it yet)
       double max_all, max_state;
       ResidualPeak peak;
@@ -666,6 +668,8 @@ LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
       MakeTranscription(v, road, mesh, x_guess, lambda_guess, u_guess, options.num_threads,
                         options.node_constraints);
   tr.end_charge_price = options.end_charge_price_s_per_j;
+  tr.current_widening = options.current_widening;
+  tr.current_model_eps = options.current_model_eps;
   ceres::Problem::Options popts;
   MidpointCallback callback(&tr);
   popts.evaluation_callback = &callback;

@@ -76,6 +76,23 @@ struct IndirectOptions {
   // docs/lap_log.md, session 51) 0.7 took 155.7 s and 3,727 iterations, 1 161.8 s and 3,655, none
   // 184.9 s and 3,914, one after the other, the same lap.
   double arclength_contraction_max = 0.7;
+  // A step of the barrier continuation whose tangent turns by more than this [rad] is retried at
+  // half its length (PathSettings::max_turn); infinity: never. On the TT course's first 5 km
+  // (5 m) with the widened switch below, a step of 7.3 that turned by 1.37 rad came out with eps
+  // rising, a turning point at eps 1.35e-4 that the shorter steps after a retry went through to
+  // eps_end; the steps that converge turn by 0.2-0.65 rad (docs/lap_log.md "Session 54: a wider
+  // switch while the barrier is heavy").
+  double arclength_max_turn_rad = 1.0;
+  // The motor current's driving/braking switch (i_m = f+(.) of width d, eq. 25: lap/model/
+  // smooth.h) is smoothed wider while the barrier is heavy: at the weight eps its width is
+  // d clamp(eps / current_model_eps, 1, current_widening) (Transcription::ModelAtWeight), the
+  // model's own at and below current_model_eps, so that an answer at eps_end <= current_model_eps
+  // and the lap time extrapolated from there are the model's (1: off). On the TT course gear 4.2
+  // (192 A), which stopped at eps 9.9e-4 with the model's 2 A, converges with 6 A above eps 9e-4,
+  // to Ipopt's extrapolated lap (docs/lap_log.md "Session 54: a wider switch while the barrier is
+  // heavy").
+  double current_widening = 3.0;
+  double current_model_eps = 3e-4;
   // The first step of a start near the solution at eps_start (node barriers on: the node
   // barriers added to the midpoints' solution, the whole road from its stitched windows, an
   // --init lap) by Newton's homotopy H(v, t) = F(v) - (1 - t) F(v0) = 0, followed from the start

@@ -421,5 +421,50 @@ TEST(IndirectTest, TheLapTimeIsExtrapolatedThroughStepsApart) {
   EXPECT_DOUBLE_EQ(ExtrapolateLapTime({{1e-3, 101.0}}), 101.0);
 }
 
+// The motor current's switch widened while the barrier is heavy (IndirectOptions::
+// current_widening) changes the path, not the answer: below current_model_eps the system is the
+// model's, so the lap at eps_end and its extrapolation are those of the path without it. 200 m
+// with a bend, where the lap brakes and coasts across the switch.
+TEST(IndirectTest, TheWiderSwitchChangesThePathNotTheAnswer) {
+  const Vehicle v = Bx15();
+  const MeshedRoad p(v,
+                     testing::SyntheticRoad(
+                         200.0, 8.0, [](double s) { return s > 80.0 && s < 140.0 ? 0.02 : 0.0; },
+                         testing::Zero),
+                     2.0);
+  const auto solve = [&](double widening, SolveSummary* summary) {
+    IndirectOptions options;
+    options.current_widening = widening;
+    const LapSolution sol = SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, options, summary);
+    EXPECT_TRUE(summary->converged) << summary->message;
+    return sol;
+  };
+  SolveSummary wide, model;
+  const LapSolution a = solve(3.0, &wide);
+  const LapSolution b = solve(1.0, &model);
+  ASSERT_FALSE(wide.steps.empty());
+  ASSERT_FALSE(model.steps.empty());
+  // the first step, at eps_start, solves a wider switch: a different lap
+  EXPECT_GT(std::abs(wide.steps[0].lap_time - model.steps[0].lap_time), 1e-6 * b.lap_time);
+  EXPECT_NEAR(a.lap_time, b.lap_time, 1e-7 * b.lap_time);
+  // the extrapolation goes through steps at other weights on the two paths (1.3e-7 apart here)
+  EXPECT_NEAR(a.lap_time_extrapolated, b.lap_time_extrapolated, 1e-6 * b.lap_time);
+}
+
+// A barrier continuation step whose tangent turns by more than arclength_max_turn_rad is not taken
+// but retried at half its length (FollowPath): with a limit of 0.05 rad the 300 m straight's path
+// retries steps it takes without the limit, and ends on the same lap.
+TEST(IndirectTest, AStepThatTurnsTooSharplyIsRetriedShorter) {
+  SolveSummary tight, free;
+  const LapSolution a = SolveStraight300([](IndirectOptions* o) { o->arclength_max_turn_rad = 0.05; }, &tight);
+  const LapSolution b = SolveStraight300([](IndirectOptions* o) { o->arclength_max_turn_rad = HUGE_VAL; }, &free);
+  const auto retried = [](const SolveSummary& s) {
+    return std::count_if(s.steps.begin(), s.steps.end(), [](const ContinuationStep& c) { return !c.converged; });
+  };
+  EXPECT_GT(retried(tight), retried(free));
+  EXPECT_GT(tight.steps.size(), free.steps.size());
+  EXPECT_NEAR(a.lap_time, b.lap_time, 1e-7 * b.lap_time);
+}
+
 }  // namespace
 }  // namespace ttz::lap

@@ -263,12 +263,13 @@ PathEnd FollowPath(CurveSystem* sys, PathFamily* family, double p0, const PathSe
     if (point.converged && !point.last) {
       const double along = tn.dot(t);  // the angle by atan2: acos loses small ones to rounding
       point.turn = std::atan2((tn - along * t).norm(), along);
+      point.too_sharp = point.turn > settings.max_turn;
     }
     point.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     budget -= point.iterations;
-    if (point.converged) tr->KeepControlsAsStarts();
+    if (point.Accepted()) tr->KeepControlsAsStarts();
     report(point);
-    if (!point.converged) {
+    if (!point.Accepted()) {
       tr->mids = mids_y;
       sys->Set(y.head(n));
       ds = 0.5 * dsi;

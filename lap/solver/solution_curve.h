@@ -142,6 +142,10 @@ struct PathSettings {
   // times the step before (CorrectorNotContracting); infinity: never.
   double max_contraction = std::numeric_limits<double>::infinity();
   int max_iterations = std::numeric_limits<int>::max();  // over all steps
+  // A step whose corrector converged but whose tangent turned by more than this [rad] is retried
+  // at half its length, as a failed one: the curve bends too sharply there for the step to say
+  // where it goes (a turning point among them); infinity: never.
+  double max_turn = std::numeric_limits<double>::infinity();
 };
 
 // Whether a Newton corrector has stalled: its last max |G| (of iterates 0, 1, ...) is no smaller
@@ -183,6 +187,8 @@ struct PathPoint {
   double length = 0.0;         // the step's arclength ds (scaled unknowns and p)
   double turn = 0.0;           // angle between the tangents before and after it [rad] (not at a
                                // failed or the last step: 0)
+  bool too_sharp = false;      // converged, but turned by more than max_turn: retried shorter
+  bool Accepted() const { return converged && !too_sharp; }
 };
 
 enum class PathEnd { kReached, kTurned, kFailed };
@@ -192,8 +198,9 @@ enum class PathEnd { kReached, kTurned, kFailed };
 // [G; t^T (y - y_pred)] = 0 (the bordered system), the step grown after an easy corrector (<= 3
 // iterations) and shrunk after a hard one (>= 6), halved after a failed one (one that spent
 // corrector_iterations, diverged, did not contract (max_contraction) or, with stop_stalled,
-// stalled; the unknowns and the controls' Newton starts back at the last point, after the step is
-// reported with the unknowns at its last iterate); the last step lands on p_end and converges
+// stalled) or one that turned by more than max_turn (the unknowns and the controls' Newton
+// starts back at the last point, after the step is reported with the unknowns at its last
+// iterate); the last step lands on p_end and converges
 // there by Newton on F. Reports every step; stops at a turning point (p starts to go back:
 // kTurned, with the tangent there in `turn`), after 400 steps, when a step shrinks below 1e-6 in p
 // or the iterations exceed their budget (kFailed). The unknowns are left at the last converged

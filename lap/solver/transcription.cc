@@ -34,17 +34,25 @@ StateVector<double> Transcription::MidCostate(int k) const {
   return mu;
 }
 
+Vehicle Transcription::ModelAtWeight() const {
+  Vehicle model = *v;
+  if (current_widening > 1.0)
+    model.smoothing.current *= std::clamp(weight.eps / current_model_eps, 1.0, current_widening);
+  return model;
+}
+
 void Transcription::EvaluateMids(bool jacobians) {
   const int n = NumNodes() - 1;
   const BarrierWeight mid_weight = MidpointWeight(), node_weight = NodeWeight();
+  const Vehicle model = ModelAtWeight();
   if (node_barriers)
     ForEachInterval(n, threads, [&](int k) {
-      EvaluateNodeBarrier(*v, sc, road_nodes[k + 1], node_weight, NodeLength(k + 1), NodeState(k + 1), jacobians,
+      EvaluateNodeBarrier(model, sc, road_nodes[k + 1], node_weight, NodeLength(k + 1), NodeState(k + 1), jacobians,
                           &nodes[k + 1]);
       return true;  // validity is read from the nodes below
     });
   ForEachInterval(n, threads, [&](int k) {
-    EvaluateNode(*v, sc, road[k], mid_weight, MidState(k), MidCostate(k), jacobians, &mids[k]);
+    EvaluateNode(model, sc, road[k], mid_weight, MidState(k), MidCostate(k), jacobians, &mids[k]);
     return true;  // validity is read from the midpoints below
   });
   all_valid = std::all_of(mids.begin(), mids.end(), [](const NodeData& d) { return d.valid; }) &&

@@ -48,6 +48,11 @@ struct Transcription {
   std::vector<RoadPoint> road_nodes;      // at the nodes
   std::vector<NodeBarrierData> nodes;     // the N + 1 nodes (node 0's stays zero)
   BarrierWeight weight{};        // set by the continuation before each solve
+  // The motor current's smoothing width along the continuation (IndirectOptions::
+  // current_widening): the model's width d times clamp(eps / current_model_eps, 1,
+  // current_widening) at the weight eps. 1: the model's at every weight.
+  double current_widening = 1.0;
+  double current_model_eps = 0.0;  // [1]
   // Price on the charge left at s_N [s/J]: the terminal cost -price e(s_N), so that BuildProblem
   // holds lambda~_e(s_N) = -price e_scale (IndirectOptions::end_charge_price_s_per_j).
   double end_charge_price = 0.0;
@@ -77,6 +82,8 @@ struct Transcription {
     return !node_barriers ? 0.0 : k + 2 == NumNodes() ? 1.0 : 0.5;
   }
 
+  // The vehicle model at the current weight: *v with the motor current's widened smoothing.
+  Vehicle ModelAtWeight() const;
   // Interval k's midpoint: the scaled state (x~_k + x~_{k+1}) / 2, and the costate mu~_k, the mean
   // of the nodes' shifted by the node barriers' gradients of the last EvaluateMids
   // (mu~_k = (lambda~_k + lambda~_{k+1}) / 2 + (b_k dB_{k+1}/dx~ - a_k dB_k/dx~) / 2): the

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "lap/testing/problem.h"
 #include "lap/testing/synthetic_road.h"
@@ -126,6 +127,40 @@ TEST(TranscriptionTest, TheResidualPeakIsWhereTheSystemIsOff) {
   EXPECT_TRUE(peak.interval == 14 || peak.interval == 15) << peak.interval;
   EXPECT_EQ(peak.component, kNumStates + kV);
   EXPECT_EQ(DescribePeak(tr, peak).rfind("the costate equation of V on ", 0), 0u) << DescribePeak(tr, peak);
+}
+
+// The motor current's smoothing width along the continuation (Transcription::ModelAtWeight):
+// current_widening times the model's at and above current_widening x current_model_eps, the
+// model's at and below current_model_eps, in proportion to eps between; off at widening 1.
+TEST(TranscriptionTest, TheMotorCurrentsSwitchWidensWithTheWeight) {
+  const Vehicle v = testing::Bx15();
+  const testing::MeshedRoad p = BendOnAClimb(v);
+  Transcription tr = TranscriptionOf(v, p);
+  const double d = v.smoothing.current;
+  const auto width_at = [&](double eps) {
+    tr.weight.eps = eps;
+    return tr.ModelAtWeight().smoothing.current;
+  };
+  EXPECT_EQ(width_at(1.0), d);  // off by default
+  tr.current_widening = 3.0;
+  tr.current_model_eps = 3e-4;
+  EXPECT_EQ(width_at(1.0), 3.0 * d);
+  EXPECT_EQ(width_at(9e-4), 3.0 * d);
+  EXPECT_NEAR(width_at(6e-4), 2.0 * d, 1e-12 * d);
+  EXPECT_EQ(width_at(3e-4), d);
+  EXPECT_EQ(width_at(1e-4), d);
+  EXPECT_EQ(tr.ModelAtWeight().motor.i_m0, v.motor.i_m0);  // nothing else changes
+  // and the midpoints see it: the motor heats by i_m^2 R_m, and a wider switch draws more current
+  // where the lap coasts or brakes (here at eps 1, widened 3x against the model's)
+  tr.weight = {1.0, 1e-3};
+  tr.EvaluateMids(false);
+  std::vector<NodeData> wide = tr.mids;
+  tr.current_widening = 1.0;
+  tr.EvaluateMids(false);
+  double largest = 0.0;
+  for (size_t k = 0; k < wide.size(); ++k)
+    largest = std::max(largest, std::abs(wide[k].F[kT] - tr.mids[k].F[kT]));
+  EXPECT_GT(largest, 0.0);
 }
 
 }  // namespace
