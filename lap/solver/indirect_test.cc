@@ -125,14 +125,18 @@ TEST(IndirectTest, AContinuationThatFailsWithTheContractionBoundIsFollowedAgainW
 // From the QSS guess Levenberg-Marquardt's first solve hands over to Newton's homotopy once it is
 // near (IndirectOptions::homotopy_handoff), and ends on the lap that LM alone reaches (the same
 // discrete problem).
+// 200 m with a 50 m radius left bend from 80 to 140 m, on a 2 m mesh.
+MeshedRoad BendOf200m(const Vehicle& v) {
+  return MeshedRoad(v,
+                    testing::SyntheticRoad(
+                        200.0, 8.0, [](double s) { return s > 80.0 && s < 140.0 ? 0.02 : 0.0; },
+                        testing::Zero),
+                    2.0);
+}
+
 TEST(IndirectTest, LevenbergMarquardtHandingOverToNewtonsHomotopyEndsOnTheSameLap) {
   const Vehicle v = Bx15();
-  // 200 m with a 50 m radius left bend from 80 to 140 m
-  const MeshedRoad p(v,
-                     testing::SyntheticRoad(
-                         200.0, 8.0, [](double s) { return s > 80.0 && s < 140.0 ? 0.02 : 0.0; },
-                         testing::Zero),
-                     2.0);
+  const MeshedRoad p = BendOf200m(v);
   const auto solve = [&](double handoff, SolveSummary* summary, std::string* log) {
     IndirectOptions options;
     options.homotopy_handoff = handoff;
@@ -427,11 +431,7 @@ TEST(IndirectTest, TheLapTimeIsExtrapolatedThroughStepsApart) {
 // with a bend, where the lap brakes and coasts across the switch.
 TEST(IndirectTest, TheWiderSwitchChangesThePathNotTheAnswer) {
   const Vehicle v = Bx15();
-  const MeshedRoad p(v,
-                     testing::SyntheticRoad(
-                         200.0, 8.0, [](double s) { return s > 80.0 && s < 140.0 ? 0.02 : 0.0; },
-                         testing::Zero),
-                     2.0);
+  const MeshedRoad p = BendOf200m(v);
   const auto solve = [&](double widening, SolveSummary* summary) {
     IndirectOptions options;
     options.current_widening = widening;

@@ -200,11 +200,10 @@ enum class PathEnd { kReached, kTurned, kFailed };
 // corrector_iterations, diverged, did not contract (max_contraction) or, with stop_stalled,
 // stalled) or one that turned by more than max_turn (the unknowns and the controls' Newton
 // starts back at the last point, after the step is reported with the unknowns at its last
-// iterate); the last step lands on p_end and converges
-// there by Newton on F. Reports every step; stops at a turning point (p starts to go back:
-// kTurned, with the tangent there in `turn`), after 400 steps, when a step shrinks below 1e-6 in p
-// or the iterations exceed their budget (kFailed). The unknowns are left at the last converged
-// point.
+// iterate); the last step lands on p_end and converges there by Newton on F. Reports every step;
+// stops at a turning point (p starts to go back: kTurned, with the tangent there in `turn`), after
+// 400 steps, when a step shrinks below 1e-6 in p or the iterations exceed their budget (kFailed).
+// The unknowns are left at the last converged point.
 PathEnd FollowPath(CurveSystem* sys, PathFamily* family, double p0, const PathSettings& settings,
                    const std::function<void(const PathPoint&)>& report, Eigen::VectorXd* turn);
 
