@@ -288,14 +288,42 @@ struct Continuation {
 // options.eps_end, appending its points to `summary` and the converged ones of its last path (not
 // those of a bounded one given up on: TraceCurve) to `c` (ExtrapolateLapTime's steps);
 // the unknowns stay at its last converged point, whose residual levels (those of the path's
-// tolerance, or the final one at eps_end) become c's. 0 when eps_end was reached, else the weight
-// where the curve stopped (failed or turned).
+// tolerance, or the final one at eps_end) become c's. Where a path with the motor current's switch
+// widened (IndirectOptions::current_widening) stops at a weight where it is widened, the path is
+// followed again from eps0 with the model's switch (ToModelSwitch), whose points are then the last
+// path's: on the TT course gear 4.1 stopped at eps 1.43e-3 with the widening and converged
+// without it (docs/lap_log.md "Session 54: a wider switch while the barrier is heavy"). 0 when
+// eps_end was reached, else the weight where the curve stopped (failed or turned).
 double FollowCurve(const IndirectOptions& options, Transcription* tr, Continuation* c,
                    SolveSummary* summary) {
   const double eps0 = c->good.back().eps;
+  const PathStart start(*tr);
   std::vector<ContinuationStep> curve;
   size_t last_from = 0;  // a path given up on and followed again: only the last one's points count
-  const bool reached = TraceCurve(options, tr, eps0, &curve, &last_from, &c->turning_point);
+  bool reached = TraceCurve(options, tr, eps0, &curve, &last_from, &c->turning_point);
+  double stopped = curve.empty() ? eps0 : curve.back().eps;
+  if (!reached && tr->current_widening > 1.0 && stopped > tr->current_model_eps) {
+    // It stopped where the switch is widened: again from eps0 with the model's own switch.
+    std::ostringstream o;
+    o << "arclength: stopped at eps " << stopped
+      << " with the motor current's switch widened: again from eps " << eps0 << " with the model's";
+    Log(LogKind::kInfo, o.str());
+    const PathStart stop(*tr);
+    start.Restore(tr);
+    ContinuationStep to_model;
+    if (ToModelSwitch(options, tr, eps0, &to_model)) {
+      std::vector<ContinuationStep> again{to_model};
+      size_t again_from = 0;
+      c->turning_point.clear();
+      reached = TraceCurve(options, tr, eps0, &again, &again_from, &c->turning_point);
+      last_from = curve.size() + again_from;
+      curve.insert(curve.end(), again.begin(), again.end());
+      stopped = curve.back().eps;
+    } else {  // the widened path's end stands
+      stop.Restore(tr);
+      curve.push_back(to_model);
+    }
+  }
   for (size_t i = 0; i < curve.size(); ++i) {
     summary->iterations += curve[i].iterations;
     summary->steps.push_back(curve[i]);
@@ -303,7 +331,7 @@ double FollowCurve(const IndirectOptions& options, Transcription* tr, Continuati
   }
   tr->weight = WeightFor(c->good.back().eps);
   ResidualLevels(tr, &c->max_all, &c->max_state);
-  return reached ? 0.0 : curve.empty() ? eps0 : curve.back().eps;
+  return reached ? 0.0 : stopped;
 }
 
 Continuation RunContinuation(const IndirectOptions& options, Transcription* tr,
@@ -719,6 +747,29 @@ double ExtrapolateLapTime(const std::vector<ContinuationStep>& converged) {
   for (auto a = converged.rbegin() + 1; a != converged.rend(); ++a)
     if (a->eps >= 1.05 * b.eps) return b.lap_time - (a->lap_time - b.lap_time) * b.eps / (a->eps - b.eps);
   return b.lap_time;
+}
+
+bool ToModelSwitch(const IndirectOptions& options, Transcription* tr, double eps,
+                   ContinuationStep* step) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const double widening = tr->current_widening;
+  tr->current_widening = 1.0;
+  step->eps = eps;
+  step->converged = FirstStepByHomotopy(options, tr, eps, &step->iterations);
+  step->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!step->converged) {
+    tr->current_widening = widening;
+    Log(LogKind::kInfo, "to the model's switch at eps " + std::to_string(eps) + ": FAILED");
+    return false;
+  }
+  tr->weight = WeightFor(eps);
+  tr->EvaluateMids(false);
+  step->lap_time = tr->LapTime();
+  std::ostringstream o;
+  o << "to the model's switch at eps " << eps << ": converged in " << step->iterations
+    << " iterations, " << step->seconds << " s, lap " << step->lap_time << " s";
+  Log(LogKind::kInfo, o.str());
+  return true;
 }
 
 }  // namespace ttz::lap

@@ -17,6 +17,8 @@
 
 namespace ttz::lap {
 
+struct Transcription;
+
 struct IndirectOptions {
   double eps_start = 1.0;        // first barrier weight [1]: on 300-400 m roads with bends 0.1
                                  // stalls the first solve and 1 converges (docs/lap.md)
@@ -90,7 +92,9 @@ struct IndirectOptions {
   // and the lap time extrapolated from there are the model's (1: off). On the TT course gear 4.2
   // (192 A), which stopped at eps 9.9e-4 with the model's 2 A, converges with 6 A above eps 9e-4,
   // to Ipopt's extrapolated lap (docs/lap_log.md "Session 54: a wider switch while the barrier is
-  // heavy").
+  // heavy"). Where the path with the widened switch stops at a weight above current_model_eps, it
+  // is followed again from its start with the model's switch (FollowCurve, indirect.cc): gear
+  // 4.1, which converged with the model's switch, stopped at eps 1.43e-3 with the wider one.
   double current_widening = 3.0;
   double current_model_eps = 3e-4;
   // The first step of a start near the solution at eps_start (node barriers on: the node
@@ -204,6 +208,16 @@ LapSolution SolveIndirect(const Vehicle& v, const RoadTrack& road,
                           const std::vector<StateVector<double>>& lambda_guess,
                           const std::vector<ControlVector<double>>& u_guess,
                           const IndirectOptions& options, SolveSummary* summary);
+
+// From the solution in `tr` at the weight eps with the motor current's switch widened
+// (IndirectOptions::current_widening) to the solution with the model's own switch, by Newton's
+// homotopy at eps from there (as a first step's: IndirectOptions::homotopy); true when it got there (`tr` then solves
+// the model's system, its current_widening 1), else the unknowns and the widening are back where
+// they were. `step`: the homotopy as a continuation step at eps (its iterations, time and lap).
+// SolveIndirect takes this way where the continuation with the widened switch stops above
+// current_model_eps, and follows the continuation again with the model's switch from there.
+bool ToModelSwitch(const IndirectOptions& options, Transcription* tr, double eps,
+                   ContinuationStep* step);
 
 // The lap time extrapolated linearly in eps to eps = 0 through the last converged step and the
 // latest one before it at a weight at least 5 % larger (LapSolution::lap_time_extrapolated); the

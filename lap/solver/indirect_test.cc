@@ -12,6 +12,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "lap/solver/solution_curve.h"
+#include "lap/solver/transcription.h"
 #include "lap/testing/problem.h"
 #include "lap/testing/synthetic_road.h"
 
@@ -464,6 +466,45 @@ TEST(IndirectTest, AStepThatTurnsTooSharplyIsRetriedShorter) {
   EXPECT_GT(retried(tight), retried(free));
   EXPECT_GT(tight.steps.size(), free.steps.size());
   EXPECT_NEAR(a.lap_time, b.lap_time, 1e-7 * b.lap_time);
+}
+
+// From an answer with the motor current's switch widened, ToModelSwitch takes the transcription
+// to the answer with the model's switch at the same weight: the answer the continuation reaches
+// with the widening off. 200 m with a bend at eps 1e-2, where the switch is three times wider.
+TEST(IndirectTest, ToModelSwitchGoesToTheModelsAnswerAtTheSameWeight) {
+  const Vehicle v = Bx15();
+  const MeshedRoad p = BendOf200m(v);
+  IndirectOptions options;
+  options.eps_end = options.eps_floor = 1e-2;
+  const auto solve = [&](double widening) {
+    IndirectOptions o = options;
+    o.current_widening = widening;
+    SolveSummary summary;
+    const LapSolution sol = SolveIndirect(v, p.road, p.mesh, p.qss.x, {}, p.qss.u, o, &summary);
+    EXPECT_TRUE(summary.converged) << summary.message;
+    return sol;
+  };
+  const LapSolution wide = solve(3.0), model = solve(1.0);
+  EXPECT_GT(std::abs(wide.lap_time - model.lap_time), 1e-7 * model.lap_time);
+  Transcription tr = MakeTranscription(v, p.road, p.mesh, wide.x, wide.lambda, wide.u, 2);
+  tr.weight = WeightFor(options.eps_end);
+  tr.current_model_eps = options.current_model_eps;
+  const auto max_residual = [&](double widening) {
+    tr.current_widening = widening;
+    double max_all = 0.0, max_state = 0.0;
+    ResidualLevels(&tr, &max_all, &max_state);
+    return max_all;
+  };
+  EXPECT_LE(max_residual(3.0), 10.0 * options.residual_tolerance);  // the widened answer
+  EXPECT_GT(max_residual(1.0), 1e3 * options.residual_tolerance);   // is not the model's
+  tr.current_widening = 3.0;
+  ContinuationStep step;
+  ASSERT_TRUE(ToModelSwitch(options, &tr, options.eps_end, &step));
+  EXPECT_TRUE(step.converged);
+  EXPECT_GT(step.iterations, 0);
+  EXPECT_EQ(tr.current_widening, 1.0);
+  EXPECT_LE(max_residual(1.0), 10.0 * options.residual_tolerance);
+  EXPECT_NEAR(step.lap_time, model.lap_time, 1e-7 * model.lap_time);
 }
 
 }  // namespace
