@@ -165,6 +165,10 @@ struct IndirectOptions {
   // 3 km: the first 10 km 92.1 -> 53.8 s, the whole course 705.6 -> 634.0 s (docs/lap_log.md
   // "Windows down to eps 1e-2"). Below 1e-2 the whole road's homotopy from the stitched windows
   // did not converge (1e-4: a turning point in t, then Levenberg-Marquardt failed at a junction).
+  // Where the whole road's first step from the windows fails, the windows are solved again down to
+  // ten times this weight, at most their first step's (SolveFromWindows, indirect.cc): on the TT
+  // course the grid's gear 4.0 with 30 MJ failed from 1e-2 and converged from 0.1 (docs/lap_log.md
+  // "Session 55").
   double window_eps_end = 1e-2;
   // A window that fails every try is solved again from the same start as a window of half the
   // length (the same overlap), as long as that length is at least window_min_m [m] and longer
