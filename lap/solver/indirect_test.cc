@@ -124,9 +124,6 @@ TEST(IndirectTest, AContinuationThatFailsWithTheContractionBoundIsFollowedAgainW
   EXPECT_NEAR(a.lap_time_extrapolated, b.lap_time_extrapolated, 1e-9 * b.lap_time);
 }
 
-// From the QSS guess Levenberg-Marquardt's first solve hands over to Newton's homotopy once it is
-// near (IndirectOptions::homotopy_handoff), and ends on the lap that LM alone reaches (the same
-// discrete problem).
 // 200 m with a 50 m radius left bend from 80 to 140 m, on a 2 m mesh.
 MeshedRoad BendOf200m(const Vehicle& v) {
   return MeshedRoad(v,
@@ -136,6 +133,9 @@ MeshedRoad BendOf200m(const Vehicle& v) {
                     2.0);
 }
 
+// From the QSS guess Levenberg-Marquardt's first solve hands over to Newton's homotopy once it is
+// near (IndirectOptions::homotopy_handoff), and ends on the lap that LM alone reaches (the same
+// discrete problem).
 TEST(IndirectTest, LevenbergMarquardtHandingOverToNewtonsHomotopyEndsOnTheSameLap) {
   const Vehicle v = Bx15();
   const MeshedRoad p = BendOf200m(v);
